@@ -1,0 +1,88 @@
+# Small helpers shared by every CMakeLists.txt of the project.
+
+# retreat_warnings(<target>): the project's warning set.
+function(retreat_warnings target)
+  target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow -Wconversion
+    -Wno-sign-conversion)
+  if(RETREAT_WARNINGS_AS_ERRORS)
+    target_compile_options(${target} PRIVATE -Werror)
+  endif()
+endfunction()
+
+# retreat_library(<name> [PURE] SOURCES ... [PUBLIC_DEPS ...] [PRIVATE_DEPS ...])
+# Creates retreat_<name> with alias retreat::<name>, include dir <dir>/include, installed and
+# exported. A PURE library may only depend on std, Eigen and other pure retreat libraries:
+# that is checked here at configure time, and by tests/unit/include_policy_test at test time.
+set_property(GLOBAL PROPERTY RETREAT_EXPORTED_TARGETS "")
+function(retreat_library name)
+  cmake_parse_arguments(ARG "PURE;HEADER_ONLY" "" "SOURCES;PUBLIC_DEPS;PRIVATE_DEPS" ${ARGN})
+  set(target retreat_${name})
+  if(ARG_HEADER_ONLY)
+    add_library(${target} INTERFACE)
+    target_include_directories(${target} INTERFACE
+      $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>
+      $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
+    target_link_libraries(${target} INTERFACE ${ARG_PUBLIC_DEPS})
+    target_compile_features(${target} INTERFACE cxx_std_17)
+  else()
+    add_library(${target} ${ARG_SOURCES})
+    target_include_directories(${target} PUBLIC
+      $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>
+      $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
+    target_link_libraries(${target} PUBLIC ${ARG_PUBLIC_DEPS} PRIVATE ${ARG_PRIVATE_DEPS})
+    target_compile_features(${target} PUBLIC cxx_std_17)
+    retreat_warnings(${target})
+    set_target_properties(${target} PROPERTIES EXPORT_NAME ${name})
+  endif()
+  set_target_properties(${target} PROPERTIES EXPORT_NAME ${name})
+  add_library(retreat::${name} ALIAS ${target})
+  if(ARG_PURE)
+    foreach(dep IN LISTS ARG_PUBLIC_DEPS ARG_PRIVATE_DEPS)
+      if(NOT dep MATCHES "^(retreat::|Eigen3::Eigen$|Threads::Threads$)")
+        message(FATAL_ERROR "pure library retreat::${name} may not depend on ${dep}")
+      endif()
+    endforeach()
+  endif()
+  install(TARGETS ${target} EXPORT retreatTargets
+    LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
+    ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+    RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+  if(EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/include)
+    install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+  endif()
+endfunction()
+
+# retreat_program(<name> SOURCES ... DEPS ...): an installed executable named <name>.
+function(retreat_program name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
+  add_executable(${name} ${ARG_SOURCES})
+  target_link_libraries(${name} PRIVATE ${ARG_DEPS})
+  retreat_warnings(${name})
+  install(TARGETS ${name} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+endfunction()
+
+# retreat_test(<name> SOURCES ... DEPS ... [LABELS ...] [TIMEOUT s])
+# A GoogleTest executable registered with CTest (one CTest test per TEST()).
+function(retreat_test name)
+  cmake_parse_arguments(ARG "" "TIMEOUT" "SOURCES;DEPS;LABELS" ${ARGN})
+  add_executable(${name} ${ARG_SOURCES})
+  target_link_libraries(${name} PRIVATE ${ARG_DEPS} GTest::gtest GTest::gtest_main)
+  retreat_warnings(${name})
+  if(NOT ARG_TIMEOUT)
+    set(ARG_TIMEOUT 120)
+  endif()
+  gtest_discover_tests(${name} PROPERTIES LABELS "${ARG_LABELS}" TIMEOUT ${ARG_TIMEOUT}
+    DISCOVERY_TIMEOUT 60)
+endfunction()
+
+function(retreat_install_package)
+  include(CMakePackageConfigHelpers)
+  set(cmake_dir ${CMAKE_INSTALL_LIBDIR}/cmake/retreat)
+  install(EXPORT retreatTargets NAMESPACE retreat:: DESTINATION ${cmake_dir})
+  configure_package_config_file(${PROJECT_SOURCE_DIR}/deploy/cmake/retreatConfig.cmake.in
+    ${PROJECT_BINARY_DIR}/retreatConfig.cmake INSTALL_DESTINATION ${cmake_dir})
+  write_basic_package_version_file(${PROJECT_BINARY_DIR}/retreatConfigVersion.cmake
+    COMPATIBILITY SameMinorVersion)
+  install(FILES ${PROJECT_BINARY_DIR}/retreatConfig.cmake
+    ${PROJECT_BINARY_DIR}/retreatConfigVersion.cmake DESTINATION ${cmake_dir})
+endfunction()

@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# Installs every Debian package retreat needs to build, test and run.
+# Idempotent: when everything is present it only checks and exits (no apt-get call).
+# Usage: deploy/install-deps.sh            (as root on Debian 12)
+set -euo pipefail
+
+packages=(
+  # toolchain
+  build-essential cmake ninja-build pkg-config git
+  # DDS: Fast DDS 2.9 + Fast CDR + generator, Cyclone DDS 0.10 C API + idlc
+  libfastrtps-dev libfastcdr-dev fastddsgen cyclonedds-dev cyclonedds-tools
+  # pure libraries and program plumbing
+  libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libcpp-httplib-dev
+  # tests and benchmarks
+  libgtest-dev libgmock-dev googletest libbenchmark-dev
+  # test helpers: network namespaces for multi-host tests, python for scripts
+  iproute2 procps python3
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#packages[@]} packages present"
+  exit 0
+fi
+
+if [ "$(id -u)" -ne 0 ]; then
+  echo "install-deps: missing packages (${missing[*]}); run this script as root" >&2
+  exit 1
+fi
+
+echo "install-deps: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+apt-get update -qq
+apt-get install -y -qq --no-install-recommends "${missing[@]}"
