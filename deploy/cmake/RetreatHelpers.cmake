@@ -9,28 +9,34 @@ function(retreat_warnings target)
   endif()
 endfunction()
 
-# retreat_library(<name> [PURE] SOURCES ... [PUBLIC_DEPS ...] [PRIVATE_DEPS ...])
-# Creates retreat_<name> with alias retreat::<name>, include dir <dir>/include, installed and
+# retreat_library(<name> [PURE] [HEADER_ONLY] [INCLUDE_DIR dir] SOURCES ... [PUBLIC_DEPS ...]
+#                 [PRIVATE_DEPS ...])
+# Creates retreat_<name> with alias retreat::<name>, public headers in INCLUDE_DIR (default
+# <current dir>/include, relative paths are taken from the current dir), installed and
 # exported. A PURE library may only depend on std, Eigen and other pure retreat libraries:
 # that is checked here at configure time, and by tests/unit/include_policy_test at test time.
 set_property(GLOBAL PROPERTY RETREAT_EXPORTED_TARGETS "")
 function(retreat_library name)
-  cmake_parse_arguments(ARG "PURE;HEADER_ONLY" "" "SOURCES;PUBLIC_DEPS;PRIVATE_DEPS" ${ARGN})
+  cmake_parse_arguments(ARG "PURE;HEADER_ONLY" "INCLUDE_DIR" "SOURCES;PUBLIC_DEPS;PRIVATE_DEPS" ${ARGN})
   set(target retreat_${name})
+  if(NOT ARG_INCLUDE_DIR)
+    set(ARG_INCLUDE_DIR include)
+  endif()
+  get_filename_component(include_dir ${ARG_INCLUDE_DIR} ABSOLUTE BASE_DIR ${CMAKE_CURRENT_SOURCE_DIR})
   if(ARG_HEADER_ONLY)
     add_library(${target} INTERFACE)
     target_include_directories(${target} INTERFACE
-      $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>
+      $<BUILD_INTERFACE:${include_dir}>
       $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
     target_link_libraries(${target} INTERFACE ${ARG_PUBLIC_DEPS})
-    target_compile_features(${target} INTERFACE cxx_std_17)
+    target_compile_features(${target} INTERFACE cxx_std_20)
   else()
     add_library(${target} ${ARG_SOURCES})
     target_include_directories(${target} PUBLIC
-      $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>
+      $<BUILD_INTERFACE:${include_dir}>
       $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
     target_link_libraries(${target} PUBLIC ${ARG_PUBLIC_DEPS} PRIVATE ${ARG_PRIVATE_DEPS})
-    target_compile_features(${target} PUBLIC cxx_std_17)
+    target_compile_features(${target} PUBLIC cxx_std_20)
     retreat_warnings(${target})
     set_target_properties(${target} PROPERTIES EXPORT_NAME ${name})
   endif()
@@ -47,8 +53,8 @@ function(retreat_library name)
     LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
     ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
     RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
-  if(EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/include)
-    install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+  if(EXISTS ${include_dir})
+    install(DIRECTORY ${include_dir}/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
   endif()
 endfunction()
 

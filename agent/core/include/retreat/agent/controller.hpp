@@ -1,0 +1,50 @@
+#pragma once
+/// @file
+/// The interface of a named retreat controller: one decision step's probability of leaving.
+
+#include <cstdint>
+#include <string_view>
+
+#include "retreat/agent/agent_params.hpp"
+#include "retreat/agent/onset_window.hpp"
+#include "retreat/model/params.hpp"
+
+namespace retreat::agent {
+
+/// Everything a controller may use at one decision step: only the robot's own information.
+struct ControllerInput {
+  double time;                      ///< t_k on the robot's own clock [s] (the frame's time if
+                                    ///< within 1e-9·dt of it)
+  double time_inside;               ///< t_k − t_entry = k·dt, time since own entry [s], >= L
+  std::uint64_t onsets_in_window;   ///< y_iL(t_k), onsets in [t_k − L, t_k] [-]
+  double L;                         ///< window length L [s]
+  double dt;                        ///< decision period dt [s]
+  double lambda_hat;                ///< λ̂ = y_iL / (4δ(4/π)vL) [robots/m²]
+  const model::ModelParams& model;  ///< the model's parameters (λ_p, λ_d, C, δ, v, ρ)
+  const AgentParams& agent;         ///< the agent's parameters (L, dt, K_p, λ_in)
+  const OnsetWindow& window;        ///< the robot's own onset history (see OnsetWindow::entries)
+};
+
+/// A named rule turning the robot's own information into a retreat probability for one step.
+/// Implementations are registered by name in controller_registry.cpp. They draw no random
+/// numbers: the agent owns the generator and flips the coin.
+class Controller {
+ public:
+  virtual ~Controller() = default;
+
+  /// Probability of retreating at this step [-]. May fall outside [0, 1]; the agent clamps it.
+  /// Must not be NaN.
+  virtual double retreat_probability(const ControllerInput& input) const = 0;
+
+  /// The registered name (`paper`, ...), as written in the scenario's `agent.controller`.
+  virtual std::string_view name() const = 0;
+
+ protected:
+  Controller() = default;
+  Controller(const Controller&) = default;
+  Controller& operator=(const Controller&) = default;
+  Controller(Controller&&) = default;
+  Controller& operator=(Controller&&) = default;
+};
+
+}  // namespace retreat::agent

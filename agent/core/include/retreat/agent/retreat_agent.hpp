@@ -1,0 +1,123 @@
+#pragma once
+/// @file
+/// One robot's decision layer: Algorithm 1 of the paper, driven by the robot's own frames.
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <random>
+
+#include "retreat/agent/agent_params.hpp"
+#include "retreat/agent/controller.hpp"
+#include "retreat/agent/frame_verdict.hpp"
+#include "retreat/agent/observation.hpp"
+#include "retreat/agent/onset_window.hpp"
+#include "retreat/model/params.hpp"
+
+namespace retreat::agent {
+
+/// What one call of RetreatAgent::on_frame did.
+struct FrameResult {
+  FrameVerdict verdict = FrameVerdict::accepted;  ///< accepted, or why the frame was dropped
+  bool retreat_now = false;  ///< this frame's steps produced the retreat decision
+  bool retreating = false;   ///< the agent has decided to retreat (now or before; sticky)
+};
+
+/// The agent's state, for the status message and for tests.
+struct AgentSnapshot {
+  std::uint32_t robot_id = 0;
+  std::optional<std::int64_t> tick;  ///< last accepted frame's tick (none before the first)
+  double time = 0.0;                 ///< last accepted frame's time [s]
+  std::optional<double> entry_time;  ///< t_entry: first accepted `inside` frame's time [s]
+  bool deciding = false;             ///< has made a decision step (inside >= L) and not stopped
+  bool stopped = false;     ///< no more steps: decided, or the phase became retreating/departed
+  bool retreating = false;  ///< has decided to retreat (sticky)
+  std::uint64_t onsets_in_window = 0;  ///< y_iL at the last decision step [-]
+  double lambda_hat = 0.0;             ///< λ̂ at the last decision step [robots/m²]
+  double epsilon = 0.0;                ///< controller's rate at the last decision step, p/dt before
+                                       ///< clamping [1/s] (ε(λ̂) for `paper`)
+  std::uint64_t steps = 0;             ///< steps taken, k of the last step (with or without a coin)
+  std::uint64_t decision_steps = 0;    ///< steps at which a coin was flipped (t_k − t_entry >= L)
+  std::optional<double> decision_time;  ///< t_k of the step that decided to retreat [s]
+  FrameCounts frames;                   ///< frames seen, per verdict
+};
+
+/// Algorithm 1 for one robot.
+///
+/// Frames are checked first (FrameVerdict); dropped frames are counted and change nothing.
+/// The robot's entry time t_entry is the time of the first accepted frame with phase `inside`.
+/// While the phase is `inside`, each frame's new onsets are recorded at the frame's time.
+///
+/// Steps are time-driven: step k (k = 1, 2, ...) happens at t_k = t_entry + k·dt, computed
+/// as written (not accumulated), and every step with t_k <= frame time + 1e-9·dt is taken when
+/// the frame arrives. One frame per dt gives one step per frame; late or bursty frames give
+/// every missed step. A step within 1e-9·dt of the frame's time is evaluated at the frame's
+/// time, so a frame's own onsets are in its own step's window.
+///
+/// At a step with k·dt >= L (within 1e-9·dt: the first coin is at t_k − t_entry = L, when the
+/// window [t_k − L, t_k] first lies wholly inside D; the paper's loop reads "t > L"):
+/// y = onsets in [t_k − L, t_k], λ̂ = y / (4δ(4/π)vL), p = clamp(controller p, 0, 1), and the
+/// agent retreats if a draw u ~ U[0, 1) from its own generator is < p (always if p >= 1).
+/// After deciding, or once a frame's phase is `retreating` or `departed`, it takes no more
+/// steps and draws no more numbers; it never re-enters.
+///
+/// Times are best counted from the run's start (as the arena's clock is): the 1e-9·dt
+/// tolerance must exceed the rounding of the producer's clock.
+class RetreatAgent {
+ public:
+  /// @param robot_id the robot whose frames this agent acts on.
+  /// @param model the model's parameters (validated).
+  /// @param agent the agent's parameters (validated).
+  /// @param controller the controller; nullptr means make_controller(agent.controller).
+  /// @param seed seed of the agent's own generator; pass
+  ///        `retreat::seed_for(scenario_seed, robot_id, Stream::agent_decision)`.
+  /// @throws std::invalid_argument if a parameter is out of range.
+  explicit RetreatAgent(std::uint32_t robot_id = 0, model::ModelParams model = {},
+                        AgentParams agent = {}, std::unique_ptr<Controller> controller = nullptr,
+                        std::uint64_t seed = 0);
+
+  /// Checks @p frame, then (if accepted) records its onsets and takes every due step.
+  FrameResult on_frame(const Observation& frame);
+
+  /// Whether the agent has decided to retreat (sticky).
+  bool retreating() const noexcept { return decided_; }
+  /// Whether the agent takes no more steps.
+  bool stopped() const noexcept { return stopped_; }
+  /// The agent's state for the status message.
+  AgentSnapshot status() const;
+
+  std::uint32_t robot_id() const noexcept { return robot_id_; }
+  const model::ModelParams& model_params() const noexcept { return model_; }
+  const AgentParams& agent_params() const noexcept { return agent_; }
+  const Controller& controller() const noexcept { return *controller_; }
+  const OnsetWindow& window() const noexcept { return window_; }
+  const FrameCounts& frames() const noexcept { return frames_; }
+
+ private:
+  FrameVerdict check(const Observation& frame) const;
+  bool take_due_steps(double frame_time);
+  bool decide(double time, double time_inside);
+
+  std::uint32_t robot_id_;
+  model::ModelParams model_;
+  AgentParams agent_;
+  std::unique_ptr<Controller> controller_;
+  std::mt19937_64 generator_;
+  OnsetWindow window_;
+  double tolerance_;  // 1e-9·dt [s]
+
+  FrameCounts frames_;
+  std::optional<std::int64_t> last_tick_;
+  double last_time_ = 0.0;
+  std::optional<double> entry_time_;
+  std::uint64_t next_step_ = 1;  // k of the next step
+  std::uint64_t decision_steps_ = 0;
+  bool decided_ = false;
+  bool stopped_ = false;
+  std::optional<double> decision_time_;
+  std::uint64_t last_onsets_ = 0;
+  double last_lambda_hat_ = 0.0;
+  double last_epsilon_ = 0.0;
+};
+
+}  // namespace retreat::agent

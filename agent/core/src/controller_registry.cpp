@@ -1,0 +1,60 @@
+#include "retreat/agent/controller_registry.hpp"
+
+#include <array>
+#include <stdexcept>
+
+#include "retreat/agent/paper_controller.hpp"
+
+namespace retreat::agent {
+namespace {
+
+struct Registration {
+  std::string_view name;
+  std::unique_ptr<Controller> (*make)();
+};
+
+template <typename C>
+std::unique_ptr<Controller> make() {
+  return std::make_unique<C>();
+}
+
+// Every controller, one line each. A new controller is a new file plus one line here.
+constexpr std::array registry{
+    Registration{PaperController::registered_name, &make<PaperController>},
+};
+
+const Registration* find(std::string_view name) {
+  for (const Registration& entry : registry) {
+    if (entry.name == name) {
+      return &entry;
+    }
+  }
+  return nullptr;
+}
+
+}  // namespace
+
+std::unique_ptr<Controller> make_controller(std::string_view name) {
+  if (const Registration* entry = find(name)) {
+    return entry->make();
+  }
+  std::string valid;
+  for (const Registration& entry : registry) {
+    valid += (valid.empty() ? "" : ", ") + std::string(entry.name);
+  }
+  throw std::invalid_argument("agent.controller = '" + std::string(name) + "': must be one of " +
+                              valid);
+}
+
+std::vector<std::string> controller_names() {
+  std::vector<std::string> names;
+  names.reserve(registry.size());
+  for (const Registration& entry : registry) {
+    names.emplace_back(entry.name);
+  }
+  return names;
+}
+
+bool is_controller_name(std::string_view name) { return find(name) != nullptr; }
+
+}  // namespace retreat::agent

@@ -1,0 +1,146 @@
+#include "retreat/agent/retreat_agent.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "retreat/agent/controller_registry.hpp"
+#include "retreat/model/estimation.hpp"
+
+namespace retreat::agent {
+namespace {
+
+/// Steps within this fraction of dt of a frame's time belong to that frame: absorbs the
+/// rounding between t_entry + k·dt and a producer's own clock (e.g. tick·dt).
+constexpr double step_tolerance = 1e-9;
+
+/// @p params after checking them (so that members are built from valid parameters only).
+template <typename Params>
+Params validated(Params params) {
+  params.validate();
+  return params;
+}
+
+}  // namespace
+
+RetreatAgent::RetreatAgent(std::uint32_t robot_id, model::ModelParams model, AgentParams agent,
+                           std::unique_ptr<Controller> controller, std::uint64_t seed)
+    : robot_id_(robot_id),
+      model_(validated(model)),
+      agent_(validated(std::move(agent))),
+      controller_(controller ? std::move(controller) : make_controller(agent_.controller)),
+      generator_(seed),
+      window_(agent_.L),
+      tolerance_(step_tolerance * agent_.dt) {}
+
+FrameVerdict RetreatAgent::check(const Observation& frame) const {
+  if (frame.robot_id != robot_id_) {
+    return FrameVerdict::wrong_robot;
+  }
+  if (!std::isfinite(frame.time) || frame.time < 0.0) {
+    return FrameVerdict::bad_time;
+  }
+  if (last_tick_) {
+    if (frame.tick < *last_tick_) {
+      return FrameVerdict::stale_tick;
+    }
+    if (frame.tick == *last_tick_) {
+      return FrameVerdict::duplicate_tick;
+    }
+    if (frame.time < last_time_) {
+      return FrameVerdict::bad_time;
+    }
+  }
+  return FrameVerdict::accepted;
+}
+
+FrameResult RetreatAgent::on_frame(const Observation& frame) {
+  FrameResult result;
+  result.verdict = check(frame);
+  frames_.count(result.verdict);
+  if (result.verdict == FrameVerdict::accepted) {
+    last_tick_ = frame.tick;
+    last_time_ = frame.time;
+    if (frame.phase == RobotPhase::retreating || frame.phase == RobotPhase::departed) {
+      stopped_ = true;
+    } else if (frame.phase == RobotPhase::inside && !stopped_) {
+      if (!entry_time_) {
+        entry_time_ = frame.time;
+      }
+      window_.add(frame.time, frame.new_onsets);
+      result.retreat_now = take_due_steps(frame.time);
+    }
+  }
+  result.retreating = decided_;
+  return result;
+}
+
+bool RetreatAgent::take_due_steps(double frame_time) {
+  while (!stopped_) {
+    const double time_inside = static_cast<double>(next_step_) * agent_.dt;  // k·dt
+    const double step_time = *entry_time_ + time_inside;                     // t_k
+    if (step_time > frame_time + tolerance_) {
+      return false;
+    }
+    ++next_step_;
+    if (time_inside + tolerance_ < agent_.L) {
+      continue;  // still filling the first window: no decision
+    }
+    const double at = std::abs(step_time - frame_time) <= tolerance_ ? frame_time : step_time;
+    if (decide(at, time_inside)) {
+      return true;
+    }
+  }
+  return false;
+}
+
+bool RetreatAgent::decide(double time, double time_inside) {
+  const std::uint64_t onsets = window_.count_at(time);
+  const double lambda_hat = model::mle_density(onsets, model_.delta, model_.v, agent_.L);
+  const ControllerInput input{time,       time_inside, onsets, agent_.L, agent_.dt,
+                              lambda_hat, model_,      agent_, window_};
+  const double raw = controller_->retreat_probability(input);
+  if (std::isnan(raw)) {
+    throw std::logic_error("controller '" + std::string(controller_->name()) +
+                           "' returned a NaN retreat probability");
+  }
+  const double p = std::clamp(raw, 0.0, 1.0);
+  ++decision_steps_;
+  last_onsets_ = onsets;
+  last_lambda_hat_ = lambda_hat;
+  last_epsilon_ = raw / agent_.dt;
+
+  // One draw per decision step, whatever p is, so the stream does not depend on p's value;
+  // p >= 1 retreats even if a library's U[0, 1) ever returned 1 (LWG 2524).
+  std::uniform_real_distribution<double> coin(0.0, 1.0);
+  const double u = coin(generator_);
+  if (p >= 1.0 || u < p) {
+    decided_ = true;
+    stopped_ = true;
+    decision_time_ = time;
+  }
+  return decided_;
+}
+
+AgentSnapshot RetreatAgent::status() const {
+  AgentSnapshot s;
+  s.robot_id = robot_id_;
+  s.tick = last_tick_;
+  s.time = last_time_;
+  s.entry_time = entry_time_;
+  s.deciding = decision_steps_ > 0 && !stopped_;
+  s.stopped = stopped_;
+  s.retreating = decided_;
+  s.onsets_in_window = last_onsets_;
+  s.lambda_hat = last_lambda_hat_;
+  s.epsilon = last_epsilon_;
+  s.steps = next_step_ - 1;
+  s.decision_steps = decision_steps_;
+  s.decision_time = decision_time_;
+  s.frames = frames_;
+  return s;
+}
+
+}  // namespace retreat::agent

@@ -1,0 +1,371 @@
+// The Cyclone DDS 0.10 adapter: maps QoS intents, types and errors; nothing else.
+// Middleware threads only convert and enqueue (Inbox::push); nothing is thrown through them.
+
+#include "retreat/transport/cyclonedds.hpp"
+
+#include <dds/dds.h>
+
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <sstream>
+#include <stdexcept>
+
+#include "cyclonedds_convert.hpp"
+
+namespace retreat::transport {
+namespace {
+
+/// The built-in configuration: loopback only. `lo` has no MULTICAST flag on these machines, so
+/// multicast is forced on for it; without it Cyclone falls back to unicast discovery with
+/// participant indices and runs out of them at about ten processes (ARCHITECTURE.md).
+constexpr const char* loopback_config =
+    "<CycloneDDS><Domain Id=\"any\"><General><Interfaces>"
+    "<NetworkInterface name=\"lo\" multicast=\"true\"/>"
+    "</Interfaces></General></Domain></CycloneDDS>";
+
+std::string hex(const dds_guid_t& guid) {
+  unsigned char bytes[16];
+  std::copy(std::begin(guid.v), std::end(guid.v), bytes);
+  return hex_guid(bytes);
+}
+
+std::string fail(const std::string& what, dds_return_t rc) {
+  return "Cyclone DDS: " + what + " failed: " + dds_strretcode(rc);
+}
+
+/// Cyclone keeps one configuration per domain and process; this counts our participants on each.
+class DomainRegistry {
+ public:
+  static DomainRegistry& instance() {
+    static DomainRegistry registry;
+    return registry;
+  }
+  void acquire(int domain_id, const std::string& config) {
+    std::lock_guard lock(mutex_);
+    auto& d = domains_[domain_id];
+    if (d.users == 0) {
+      const auto handle = dds_create_domain(static_cast<dds_domainid_t>(domain_id), config.c_str());
+      if (handle < 0) {
+        domains_.erase(domain_id);
+        throw std::invalid_argument("dds.profile: Cyclone DDS rejected the configuration for domain " +
+                                    std::to_string(domain_id) + " (" + dds_strretcode(handle) + ")");
+      }
+      d.handle = handle;
+      d.config = config;
+    } else if (d.config != config) {
+      throw std::invalid_argument("dds.profile: domain " + std::to_string(domain_id) +
+                                  " already runs with another Cyclone configuration in this process");
+    }
+    ++d.users;
+  }
+  void release(int domain_id) {
+    std::lock_guard lock(mutex_);
+    auto it = domains_.find(domain_id);
+    if (it == domains_.end() || --it->second.users > 0) return;
+    dds_delete(it->second.handle);
+    domains_.erase(it);
+  }
+
+ private:
+  struct Domain {
+    dds_entity_t handle = 0;
+    std::string config;
+    int users = 0;
+  };
+  std::mutex mutex_;
+  std::map<int, Domain> domains_;
+};
+
+// ---- per-kind traits ---------------------------------------------------------------------------
+template <class P, class V>
+struct TraitsBase {
+  using Plain = P;
+  using Vendor = V;
+};
+struct FrameTraits : TraitsBase<wire::ProximityFrame, retreat_msg_ProximityFrame> {
+  static const dds_topic_descriptor_t* desc() { return &retreat_msg_ProximityFrame_desc; }
+};
+struct DecisionTraits : TraitsBase<wire::Decision, retreat_msg_Decision> {
+  static const dds_topic_descriptor_t* desc() { return &retreat_msg_Decision_desc; }
+};
+struct StatusTraits : TraitsBase<wire::AgentStatus, retreat_msg_AgentStatus> {
+  static const dds_topic_descriptor_t* desc() { return &retreat_msg_AgentStatus_desc; }
+};
+struct TelemetryTraits : TraitsBase<wire::ArenaTelemetry, retreat_msg_ArenaTelemetry> {
+  static const dds_topic_descriptor_t* desc() { return &retreat_msg_ArenaTelemetry_desc; }
+};
+struct PosesTraits : TraitsBase<wire::Poses, retreat_msg_Poses> {
+  static const dds_topic_descriptor_t* desc() { return &retreat_msg_Poses_desc; }
+};
+
+template <class F>
+decltype(auto) dispatch(wire::MessageKind kind, F&& f) {
+  switch (kind) {
+    case wire::MessageKind::proximity_frame: return f(FrameTraits{});
+    case wire::MessageKind::decision: return f(DecisionTraits{});
+    case wire::MessageKind::agent_status: return f(StatusTraits{});
+    case wire::MessageKind::arena_telemetry: return f(TelemetryTraits{});
+    case wire::MessageKind::poses: return f(PosesTraits{});
+  }
+  throw std::logic_error("unknown message kind");
+}
+
+/// QoS for both endpoint kinds. XCDR1 only: Fast DDS 2.9 cannot read XCDR2.
+class Qos {
+ public:
+  explicit Qos(const QosIntent& intent) : qos_(dds_create_qos()) {
+    dds_qset_reliability(qos_,
+                         intent.reliability == Reliability::reliable ? DDS_RELIABILITY_RELIABLE
+                                                                     : DDS_RELIABILITY_BEST_EFFORT,
+                         DDS_SECS(5));
+    dds_qset_durability(qos_, intent.durability == Durability::transient_local
+                                  ? DDS_DURABILITY_TRANSIENT_LOCAL
+                                  : DDS_DURABILITY_VOLATILE);
+    if (intent.depth == 0) {
+      dds_qset_history(qos_, DDS_HISTORY_KEEP_ALL, 0);
+    } else {
+      dds_qset_history(qos_, DDS_HISTORY_KEEP_LAST, static_cast<int32_t>(intent.depth));
+    }
+    dds_qset_resource_limits(qos_, DDS_LENGTH_UNLIMITED, DDS_LENGTH_UNLIMITED, DDS_LENGTH_UNLIMITED);
+    const dds_data_representation_id_t xcdr1 = DDS_DATA_REPRESENTATION_XCDR1;
+    dds_qset_data_representation(qos_, 1, &xcdr1);
+  }
+  ~Qos() { dds_delete_qos(qos_); }
+  Qos(const Qos&) = delete;
+  Qos& operator=(const Qos&) = delete;
+  const dds_qos_t* get() const { return qos_; }
+
+ private:
+  dds_qos_t* qos_;
+};
+
+using MatchedHandles = dds_return_t (*)(dds_entity_t, dds_instance_handle_t*, size_t);
+using MatchedData = dds_builtintopic_endpoint_t* (*)(dds_entity_t, dds_instance_handle_t);
+
+std::vector<RemoteEndpoint> matched_of(dds_entity_t entity, MatchedHandles handles_of,
+                                       MatchedData data_of) {
+  std::vector<dds_instance_handle_t> handles(64);
+  dds_return_t n = 0;
+  while ((n = handles_of(entity, handles.data(), handles.size())) > static_cast<dds_return_t>(handles.size())) {
+    handles.resize(static_cast<std::size_t>(n));
+  }
+  std::vector<RemoteEndpoint> out;
+  for (dds_return_t i = 0; i < n; ++i) {
+    dds_builtintopic_endpoint_t* data = data_of(entity, handles[static_cast<std::size_t>(i)]);
+    if (data == nullptr) continue;  // unmatched in between
+    out.push_back({hex(data->key), hex(data->participant_key)});
+    dds_builtintopic_free_endpoint(data);
+  }
+  return out;
+}
+
+template <class T>
+class CycloneWriterPort final : public detail::WriterPort {
+ public:
+  CycloneWriterPort(dds_entity_t participant, const std::string& topic, const QosIntent& intent) {
+    topic_ = dds_create_topic(participant, T::desc(), topic.c_str(), nullptr, nullptr);
+    if (topic_ < 0) throw std::runtime_error(fail("create topic '" + topic + "'", topic_));
+    Qos qos(intent);
+    writer_ = dds_create_writer(participant, topic_, qos.get(), nullptr);
+    if (writer_ < 0) {
+      dds_delete(topic_);
+      throw std::runtime_error(fail("create writer on '" + topic + "'", writer_));
+    }
+  }
+  ~CycloneWriterPort() override {
+    dds_delete(writer_);
+    dds_delete(topic_);
+  }
+  WriteResult write(const wire::AnyMessage& sample) override {
+    typename T::Vendor vendor{};
+    const auto& plain = std::get<typename T::Plain>(sample);
+    dds_return_t rc;
+    if constexpr (std::is_same_v<T, PosesTraits>) {
+      cyclonedds::PosesScratch scratch;
+      cyclonedds::to_vendor(plain, vendor, scratch);
+      rc = dds_write(writer_, &vendor);
+    } else {
+      cyclonedds::to_vendor(plain, vendor);
+      rc = dds_write(writer_, &vendor);
+    }
+    if (rc == DDS_RETCODE_OK) return WriteResult::ok;
+    return rc == DDS_RETCODE_TIMEOUT ? WriteResult::timeout : WriteResult::error;
+  }
+  bool wait_for_acknowledgments(std::chrono::nanoseconds timeout) override {
+    return dds_wait_for_acks(writer_, static_cast<dds_duration_t>(timeout.count())) == DDS_RETCODE_OK;
+  }
+  std::vector<RemoteEndpoint> matched() const override {
+    return matched_of(writer_, &dds_get_matched_subscriptions, &dds_get_matched_subscription_data);
+  }
+
+ private:
+  dds_entity_t topic_ = 0;
+  dds_entity_t writer_ = 0;
+};
+
+template <class T>
+class CycloneReaderPort final : public detail::ReaderPort {
+ public:
+  CycloneReaderPort(dds_entity_t participant, const std::string& topic, const QosIntent& intent,
+                    std::shared_ptr<Inbox> inbox)
+      : inbox_(std::move(inbox)) {
+    topic_ = dds_create_topic(participant, T::desc(), topic.c_str(), nullptr, nullptr);
+    if (topic_ < 0) throw std::runtime_error(fail("create topic '" + topic + "'", topic_));
+    Qos qos(intent);
+    dds_listener_t* listener = dds_create_listener(this);
+    dds_lset_data_available(listener, &CycloneReaderPort::on_data_available);
+    reader_ = dds_create_reader(participant, topic_, qos.get(), listener);
+    dds_delete_listener(listener);
+    if (reader_ < 0) {
+      dds_delete(topic_);
+      throw std::runtime_error(fail("create reader on '" + topic + "'", reader_));
+    }
+    // Samples that arrived before the listener was attached (transient-local replay).
+    drain(reader_);
+  }
+  ~CycloneReaderPort() override {
+    dds_set_listener(reader_, nullptr);
+    dds_delete(reader_);
+    dds_delete(topic_);
+  }
+  std::vector<RemoteEndpoint> matched() const override {
+    return matched_of(reader_, &dds_get_matched_publications, &dds_get_matched_publication_data);
+  }
+
+ private:
+  static void on_data_available(dds_entity_t reader, void* self) {
+    static_cast<CycloneReaderPort*>(self)->drain(reader);
+  }
+  void drain(dds_entity_t reader) noexcept {
+    constexpr std::size_t batch = 64;
+    void* samples[batch] = {};
+    dds_sample_info_t infos[batch];
+    std::lock_guard lock(drain_mutex_);
+    for (;;) {
+      const dds_return_t n = dds_take(reader, samples, infos, batch, batch);
+      if (n <= 0) break;
+      for (dds_return_t i = 0; i < n; ++i) {
+        if (!infos[i].valid_data) continue;
+        try {
+          inbox_->push(wire::AnyMessage{
+              cyclonedds::to_plain(*static_cast<const typename T::Vendor*>(samples[i]))});
+        } catch (...) {
+          inbox_->count_undecodable();
+        }
+      }
+      dds_return_loan(reader, samples, n);
+      if (static_cast<std::size_t>(n) < batch) break;
+    }
+  }
+
+  std::shared_ptr<Inbox> inbox_;
+  std::mutex drain_mutex_;
+  dds_entity_t topic_ = 0;
+  dds_entity_t reader_ = 0;
+};
+
+class CycloneTransport final : public Transport {
+ public:
+  explicit CycloneTransport(const ParticipantOptions& options) : domain_id_(options.domain_id) {
+    DomainRegistry::instance().acquire(domain_id_, config_of(options));
+    dds_qos_t* qos = dds_create_qos();
+    if (!options.user_data.empty()) {
+      dds_qset_userdata(qos, options.user_data.data(), options.user_data.size());
+    }
+    dds_qset_entity_name(qos, options.name.empty() ? "retreat" : options.name.c_str());
+    participant_ = dds_create_participant(static_cast<dds_domainid_t>(domain_id_), qos, nullptr);
+    dds_delete_qos(qos);
+    if (participant_ < 0) {
+      DomainRegistry::instance().release(domain_id_);
+      throw std::runtime_error(fail("create participant on domain " + std::to_string(domain_id_),
+                                    participant_));
+    }
+    participants_reader_ =
+        dds_create_reader(participant_, DDS_BUILTIN_TOPIC_DCPSPARTICIPANT, nullptr, nullptr);
+  }
+  ~CycloneTransport() override {
+    dds_delete(participant_);
+    DomainRegistry::instance().release(domain_id_);
+  }
+
+  std::vector<ParticipantInfo> participants() const override {
+    std::vector<ParticipantInfo> out;
+    constexpr std::size_t batch = 256;
+    void* samples[batch] = {};
+    dds_sample_info_t infos[batch];
+    const dds_return_t n = dds_read(participants_reader_, samples, infos, batch, batch);
+    for (dds_return_t i = 0; i < n; ++i) {
+      if (!infos[i].valid_data || infos[i].instance_state != DDS_IST_ALIVE) continue;
+      const auto* p = static_cast<const dds_builtintopic_participant_t*>(samples[i]);
+      ParticipantInfo info{hex(p->key), "", ""};
+      void* data = nullptr;
+      size_t size = 0;
+      if (dds_qget_userdata(p->qos, &data, &size) && data != nullptr) {
+        info.user_data.assign(static_cast<const char*>(data), size);
+        dds_free(data);
+      }
+      char* name = nullptr;
+      if (dds_qget_entity_name(p->qos, &name) && name != nullptr) {
+        info.name = name;
+        dds_free(name);
+      }
+      out.push_back(std::move(info));
+    }
+    if (n > 0) dds_return_loan(participants_reader_, samples, n);
+    return out;
+  }
+  std::string_view vendor() const override { return "cyclonedds"; }
+  std::string guid() const override {
+    dds_guid_t g;
+    dds_get_guid(participant_, &g);
+    return hex(g);
+  }
+
+ protected:
+  std::unique_ptr<detail::WriterPort> make_writer(wire::MessageKind kind,
+                                                  const TopicSpec& topic) override {
+    return dispatch(kind, [&](auto traits) -> std::unique_ptr<detail::WriterPort> {
+      return std::make_unique<CycloneWriterPort<decltype(traits)>>(participant_, topic.name,
+                                                                  topic.qos);
+    });
+  }
+  std::unique_ptr<detail::ReaderPort> make_reader(wire::MessageKind kind, const TopicSpec& topic,
+                                                  std::shared_ptr<Inbox> inbox) override {
+    return dispatch(kind, [&](auto traits) -> std::unique_ptr<detail::ReaderPort> {
+      return std::make_unique<CycloneReaderPort<decltype(traits)>>(participant_, topic.name,
+                                                                  topic.qos, std::move(inbox));
+    });
+  }
+
+ private:
+  static std::string config_of(const ParticipantOptions& options) {
+    if (options.profile.empty()) return loopback_config;
+    std::ifstream in(options.profile);
+    if (!in) {
+      throw std::invalid_argument("dds.profile = '" + options.profile +
+                                  "': cannot read the file (a Cyclone DDS XML configuration)");
+    }
+    std::stringstream text;
+    text << in.rdbuf();
+    const auto content = text.str();
+    if (content.find("<CycloneDDS") == std::string::npos) {
+      throw std::invalid_argument("dds.profile = '" + options.profile +
+                                  "': not a Cyclone DDS XML configuration (no <CycloneDDS> element)");
+    }
+    return content;
+  }
+
+  int domain_id_;
+  dds_entity_t participant_ = 0;
+  dds_entity_t participants_reader_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<Transport> make_cyclonedds_transport(const ParticipantOptions& options) {
+  validate(options);
+  return std::make_unique<CycloneTransport>(options);
+}
+
+}  // namespace retreat::transport

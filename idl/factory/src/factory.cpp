@@ -1,0 +1,45 @@
+#include "retreat/transport/factory.hpp"
+
+#include <stdexcept>
+
+#include "retreat/transport/inmemory.hpp"
+#ifdef RETREAT_HAVE_FASTDDS
+#include "retreat/transport/fastdds.hpp"
+#endif
+#ifdef RETREAT_HAVE_CYCLONEDDS
+#include "retreat/transport/cyclonedds.hpp"
+#endif
+
+namespace retreat::transport {
+
+std::vector<std::string> dds_vendors() {
+  std::vector<std::string> out;
+#ifdef RETREAT_HAVE_FASTDDS
+  out.emplace_back("fastdds");
+#endif
+#ifdef RETREAT_HAVE_CYCLONEDDS
+  out.emplace_back("cyclonedds");
+#endif
+  return out;
+}
+
+std::vector<std::string> available_vendors() {
+  auto out = dds_vendors();
+  out.emplace_back("inmemory");
+  return out;
+}
+
+std::unique_ptr<Transport> make_transport(std::string_view vendor, const ParticipantOptions& options) {
+#ifdef RETREAT_HAVE_FASTDDS
+  if (vendor == "fastdds") return make_fastdds_transport(options);
+#endif
+#ifdef RETREAT_HAVE_CYCLONEDDS
+  if (vendor == "cyclonedds") return make_cyclonedds_transport(options);
+#endif
+  if (vendor == "inmemory") return make_inmemory_transport(inmemory_bus_for_domain(options.domain_id), options);
+  std::string allowed;
+  for (const auto& v : available_vendors()) allowed += (allowed.empty() ? "" : ", ") + v;
+  throw std::invalid_argument("--dds '" + std::string(vendor) + "': must be one of " + allowed);
+}
+
+}  // namespace retreat::transport

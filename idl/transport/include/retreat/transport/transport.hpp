@@ -1,0 +1,258 @@
+#pragma once
+/// @file
+/// The one narrow transport interface every process uses. Three implementations: in-memory
+/// (tests, fast sweeps), Fast DDS and Cyclone DDS (idl/fastdds, idl/cyclonedds). Samples are
+/// received on the caller's thread: wait(), then take() on each reader.
+
+#include <array>
+#include <chrono>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "retreat/transport/inbox.hpp"
+#include "retreat/transport/qos.hpp"
+#include "retreat/wire/messages.hpp"
+#include "retreat/wire/topics.hpp"
+#include "retreat/wire/validate.hpp"
+
+namespace retreat::transport {
+
+/// How a participant is created.
+struct ParticipantOptions {
+  int domain_id = 0;      ///< DDS domain id, 0..232 (the RTPS port mapping's range)
+  std::string name;       ///< participant name shown in discovery, e.g. "retreat-agent"
+  std::string user_data;  ///< announced in discovery, e.g. "retreat:agent:robot=3"
+  std::string profile;    ///< vendor XML profile file; empty = built-in loopback-only settings
+};
+
+/// Largest domain id the RTPS well-known port mapping allows with the default port parameters.
+inline constexpr int max_domain_id = 232;
+
+/// A remote endpoint matched with one of ours.
+struct RemoteEndpoint {
+  std::string guid;              ///< 32 hex digits (RTPS GUID: 12-byte prefix + entity id)
+  std::string participant_guid;  ///< the GUID of the remote endpoint's participant
+};
+
+/// One of our endpoints and the remote endpoints it is matched with.
+struct EndpointMatches {
+  std::string topic;
+  bool is_reader = false;
+  std::vector<RemoteEndpoint> remotes;
+};
+
+/// A participant seen in discovery (including this one).
+struct ParticipantInfo {
+  std::string guid;  ///< participant GUID, 32 hex digits
+  std::string name;  ///< participant name where the vendor carries it (Fast DDS), else empty
+  std::string user_data;
+};
+
+enum class WriteResult { ok, timeout, error };
+
+/// Counters of one reader. Samples are validated on take(); invalid ones are dropped here.
+struct ReaderStats {
+  std::uint64_t accepted = 0;
+  std::array<std::uint64_t, 6> dropped{};  ///< indexed by wire::SampleFault (index 0 unused)
+  std::uint64_t overflowed = 0;            ///< dropped because the inbox was full
+  std::uint64_t undecodable = 0;           ///< the middleware could not decode them
+  std::uint64_t dropped_total() const;
+};
+
+namespace detail {
+/// The vendor side of one endpoint. Lives no longer than its transport.
+class Port {
+ public:
+  virtual ~Port() = default;
+  virtual std::vector<RemoteEndpoint> matched() const = 0;
+};
+class WriterPort : public Port {
+ public:
+  virtual WriteResult write(const wire::AnyMessage& sample) = 0;
+  virtual bool wait_for_acknowledgments(std::chrono::nanoseconds timeout) = 0;
+};
+class ReaderPort : public Port {};
+
+/// The endpoints of one transport, so that matched_endpoints() can list them.
+class PortRegistry {
+ public:
+  std::uint64_t add(const Port* port, std::string topic, bool is_reader);
+  void remove(std::uint64_t id);
+  std::vector<EndpointMatches> snapshot() const;
+
+ private:
+  struct Entry {
+    std::uint64_t id;
+    const Port* port;
+    std::string topic;
+    bool is_reader;
+  };
+  mutable std::mutex mutex_;
+  std::vector<Entry> entries_;
+  std::uint64_t next_id_ = 1;
+};
+
+/// Removes an endpoint from its registry when the typed writer or reader goes away.
+class Registration {
+ public:
+  Registration(std::shared_ptr<PortRegistry> registry, std::uint64_t id)
+      : registry_(std::move(registry)), id_(id) {}
+  Registration(Registration&& other) noexcept
+      : registry_(std::move(other.registry_)), id_(other.id_) {}
+  Registration& operator=(Registration&& other) noexcept {
+    if (this != &other) {
+      release();
+      registry_ = std::move(other.registry_);
+      id_ = other.id_;
+    }
+    return *this;
+  }
+  ~Registration() { release(); }
+
+ private:
+  void release() {
+    if (registry_) registry_->remove(id_);
+    registry_.reset();
+  }
+  std::shared_ptr<PortRegistry> registry_;
+  std::uint64_t id_ = 0;
+};
+}  // namespace detail
+
+class Transport;
+
+/// A typed writer on one topic. Move-only; must not outlive its Transport.
+template <class M>
+class Writer {
+ public:
+  WriteResult write(const M& sample) { return port_->write(wire::AnyMessage{sample}); }
+  /// Blocks until every matched reliable reader acknowledged every sample written so far, or the
+  /// timeout passes. Returns true when all were acknowledged.
+  bool wait_for_acknowledgments(std::chrono::nanoseconds timeout) {
+    return port_->wait_for_acknowledgments(timeout);
+  }
+  std::size_t matched_count() const { return port_->matched().size(); }
+  std::vector<RemoteEndpoint> matched() const { return port_->matched(); }
+  const std::string& topic() const { return topic_; }
+
+ private:
+  friend class Transport;
+  Writer(std::unique_ptr<detail::WriterPort> port, std::string topic,
+         const std::shared_ptr<detail::PortRegistry>& registry)
+      : port_(std::move(port)),
+        topic_(std::move(topic)),
+        registration_(registry, registry->add(port_.get(), topic_, false)) {}
+  std::unique_ptr<detail::WriterPort> port_;
+  std::string topic_;
+  detail::Registration registration_;  // after port_: deregistered before the port dies
+};
+
+/// A typed reader on one topic. take() runs on the caller's thread, validates every sample
+/// (robot id against the per-robot topic, finite non-negative times, ranges) and drops and
+/// counts invalid ones. Move-only; must not outlive its Transport.
+template <class M>
+class Reader {
+ public:
+  /// Every valid sample received since the last call, in arrival order.
+  std::vector<M> take() {
+    pending_.clear();
+    inbox_->drain(pending_);
+    std::vector<M> out;
+    out.reserve(pending_.size());
+    for (auto& any : pending_) {
+      const auto fault = wire::validate(any, topic_robot_);
+      if (fault != wire::SampleFault::ok) {
+        ++stats_.dropped[static_cast<std::size_t>(fault)];
+        continue;
+      }
+      ++stats_.accepted;
+      out.push_back(std::get<M>(std::move(any)));
+    }
+    return out;
+  }
+  ReaderStats stats() const {
+    ReaderStats s = stats_;
+    s.overflowed = inbox_->overflowed();
+    s.undecodable = inbox_->undecodable();
+    return s;
+  }
+  std::size_t matched_count() const { return port_->matched().size(); }
+  std::vector<RemoteEndpoint> matched() const { return port_->matched(); }
+  const std::string& topic() const { return topic_; }
+
+ private:
+  friend class Transport;
+  Reader(std::unique_ptr<detail::ReaderPort> port, std::shared_ptr<Inbox> inbox, std::string topic,
+         const std::shared_ptr<detail::PortRegistry>& registry)
+      : port_(std::move(port)),
+        inbox_(std::move(inbox)),
+        topic_(std::move(topic)),
+        topic_robot_(wire::robot_of_topic(topic_)),
+        registration_(registry, registry->add(port_.get(), topic_, true)) {}
+  std::unique_ptr<detail::ReaderPort> port_;
+  std::shared_ptr<Inbox> inbox_;
+  std::string topic_;
+  std::optional<wire::RobotId> topic_robot_;
+  detail::Registration registration_;
+  std::deque<wire::AnyMessage> pending_;
+  ReaderStats stats_;
+};
+
+/// One participant on one domain.
+class Transport {
+ public:
+  virtual ~Transport() = default;
+  Transport(const Transport&) = delete;
+  Transport& operator=(const Transport&) = delete;
+
+  template <class M>
+  Writer<M> create_writer(const TopicSpec& topic) {
+    return Writer<M>(make_writer(wire::KindOf<M>::value, topic), topic.name, registry_);
+  }
+  template <class M>
+  Reader<M> create_reader(const TopicSpec& topic) {
+    auto inbox = std::make_shared<Inbox>(notifier_);
+    auto port = make_reader(wire::KindOf<M>::value, topic, inbox);
+    return Reader<M>(std::move(port), std::move(inbox), topic.name, registry_);
+  }
+
+  /// Blocks until any reader of this transport has received a sample since the previous call
+  /// returned, or until the timeout. Returns true when something arrived.
+  bool wait(std::chrono::nanoseconds timeout);
+
+  /// Our endpoints and what each is matched with (for isolation checks).
+  std::vector<EndpointMatches> matched_endpoints() const { return registry_->snapshot(); }
+  /// Participants seen in discovery on this domain, this one included.
+  virtual std::vector<ParticipantInfo> participants() const = 0;
+  /// "inmemory", "fastdds" or "cyclonedds".
+  virtual std::string_view vendor() const = 0;
+  /// This participant's GUID (32 hex digits).
+  virtual std::string guid() const = 0;
+
+ protected:
+  Transport() : notifier_(std::make_shared<Notifier>()) {}
+  virtual std::unique_ptr<detail::WriterPort> make_writer(wire::MessageKind kind,
+                                                          const TopicSpec& topic) = 0;
+  virtual std::unique_ptr<detail::ReaderPort> make_reader(wire::MessageKind kind,
+                                                          const TopicSpec& topic,
+                                                          std::shared_ptr<Inbox> inbox) = 0;
+
+ private:
+  std::shared_ptr<Notifier> notifier_;
+  std::shared_ptr<detail::PortRegistry> registry_ = std::make_shared<detail::PortRegistry>();
+  std::uint64_t seen_generation_ = 0;
+};
+
+/// Formats 16 bytes as 32 lowercase hex digits (the GUID form used throughout).
+std::string hex_guid(const unsigned char (&bytes)[16]);
+
+/// Checks ParticipantOptions; throws std::invalid_argument naming the value and the valid range.
+void validate(const ParticipantOptions& options);
+
+}  // namespace retreat::transport

@@ -1,0 +1,28 @@
+#pragma once
+/// @file
+/// Topic names of the contract (docs/protocol.md). Per-robot topics carry what a robot receives
+/// or sends; shared keyed topics are for observation only.
+
+#include <optional>
+#include <string>
+
+#include "retreat/wire/messages.hpp"
+
+namespace retreat::wire {
+
+/// Default topic prefix.
+inline constexpr const char* default_prefix = "retreat";
+
+std::string proximity_topic(const std::string& prefix, RobotId robot);  ///< <p>/robot_<id>/proximity
+std::string decision_topic(const std::string& prefix, RobotId robot);   ///< <p>/robot_<id>/decision
+std::string agent_status_topic(const std::string& prefix);              ///< <p>/agent_status
+std::string arena_telemetry_topic(const std::string& prefix);           ///< <p>/arena_telemetry
+std::string poses_topic(const std::string& prefix);                     ///< <p>/poses
+
+/// The robot id a per-robot topic name belongs to, or nullopt for shared topics.
+std::optional<RobotId> robot_of_topic(const std::string& topic);
+
+/// A topic prefix is 1..64 characters of [A-Za-z0-9_], '/' allowed between segments.
+bool is_valid_prefix(const std::string& prefix);
+
+}  // namespace retreat::wire
