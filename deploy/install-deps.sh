@@ -10,7 +10,7 @@ packages=(
   # DDS: Fast DDS 2.9 + Fast CDR + generator, Cyclone DDS 0.10 C API + idlc
   libfastrtps-dev libfastcdr-dev fastddsgen cyclonedds-dev cyclonedds-tools
   # pure libraries and program plumbing
-  libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libcpp-httplib-dev
+  libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libcpp-httplib-dev libssl-dev
   # tests and benchmarks
   libgtest-dev libgmock-dev googletest libbenchmark-dev
   # test helpers: network namespaces for multi-host tests, python for scripts

@@ -1,0 +1,91 @@
+#include "agent_node.hpp"
+
+#include <cmath>
+
+#include "retreat/agent/controller_registry.hpp"
+#include "retreat/core/seed.hpp"
+#include "retreat/wire/topics.hpp"
+
+namespace retreat::agent {
+namespace {
+
+Observation to_observation(const wire::ProximityFrame& f) {
+  return {f.tick, f.time, static_cast<RobotPhase>(f.phase), f.in_contact, f.new_onsets, f.robot_id};
+}
+
+}  // namespace
+
+std::string agent_user_data(std::uint32_t robot_id) {
+  return "retreat:agent:robot=" + std::to_string(robot_id);
+}
+
+AgentNode::AgentNode(const scenario::Scenario& scenario, std::uint32_t robot_id,
+                     transport::Transport& transport)
+    : transport_(transport),
+      robot_id_(robot_id),
+      status_period_(scenario.run.status_period),
+      agent_(robot_id, scenario.model, scenario.agent, make_controller(scenario.agent.controller),
+             seed_for(scenario.seed, robot_id, Stream::agent_decision)),
+      frames_(transport.create_reader<wire::ProximityFrame>(
+          {wire::proximity_topic(scenario.dds.prefix, robot_id), transport::QosIntent::control()})),
+      decisions_(transport.create_writer<wire::Decision>(
+          {wire::decision_topic(scenario.dds.prefix, robot_id), transport::QosIntent::control()})),
+      statuses_(transport.create_writer<wire::AgentStatus>(
+          {wire::agent_status_topic(scenario.dds.prefix), transport::QosIntent::state()})) {}
+
+void AgentNode::spin_once(std::chrono::nanoseconds timeout) {
+  auto frames = frames_.take();
+  if (frames.empty()) {
+    transport_.wait(timeout);  // our reader is the transport's only one
+    frames = frames_.take();
+  }
+  for (const auto& f : frames) handle(f);
+  counters_.frames_dropped = frames_.stats().dropped_total() + agent_.frames().dropped();
+}
+
+void AgentNode::handle(const wire::ProximityFrame& frame) {
+  ++counters_.frames_received;
+  const auto result = agent_.on_frame(to_observation(frame));
+  if (result.verdict != FrameVerdict::accepted) return;
+  // Every accepted frame is answered with this tick's decision (lockstep waits for it).
+  const wire::Decision decision{robot_id_, frame.tick, frame.time, result.retreating};
+  if (decisions_.write(decision) == transport::WriteResult::ok) {
+    ++counters_.decisions_sent;
+  } else {
+    ++counters_.write_failures;
+  }
+  const auto slot = static_cast<std::int64_t>(std::floor(frame.time / status_period_));
+  const bool phase_end = frame.phase == wire::Phase::departed;
+  if (slot != last_status_slot_ || result.retreating != last_retreating_ || phase_end) {
+    last_status_slot_ = slot;
+    last_retreating_ = result.retreating;
+    publish_status(frame.tick, frame.time);
+  }
+  departed_ = departed_ || phase_end;
+}
+
+void AgentNode::publish_status(std::int64_t tick, double time) {
+  const auto s = agent_.status();
+  wire::AgentStatus status;
+  status.robot_id = robot_id_;
+  status.tick = tick;
+  status.time = time;
+  status.deciding = s.deciding;
+  status.retreating = s.retreating;
+  status.onsets_in_window = static_cast<std::uint32_t>(s.onsets_in_window);
+  status.lambda_hat = s.lambda_hat;
+  status.epsilon = std::isfinite(s.epsilon) && s.epsilon >= 0.0 ? s.epsilon : 0.0;
+  status.frames_dropped = frames_.stats().dropped_total() + s.frames.dropped();
+  if (statuses_.write(status) == transport::WriteResult::ok) {
+    ++counters_.statuses_sent;
+  } else {
+    ++counters_.write_failures;
+  }
+}
+
+void AgentNode::flush(std::chrono::nanoseconds timeout) {
+  decisions_.wait_for_acknowledgments(timeout);
+  statuses_.wait_for_acknowledgments(timeout);
+}
+
+}  // namespace retreat::agent

@@ -1,0 +1,62 @@
+#pragma once
+/// @file
+/// The one place where the agent's algorithm meets the wire: translates this robot's proximity
+/// frames into observations, steps Algorithm 1, and publishes this robot's decision and status.
+
+#include <cstdint>
+#include <memory>
+
+#include "retreat/agent/retreat_agent.hpp"
+#include "retreat/scenario/scenario.hpp"
+#include "retreat/transport/transport.hpp"
+
+namespace retreat::agent {
+
+/// Counters of one agent process, for its status and exit report.
+struct NodeCounters {
+  std::uint64_t frames_received = 0;  ///< valid on the wire, handed to the algorithm
+  std::uint64_t frames_dropped = 0;   ///< invalid on the wire, or rejected by the algorithm
+  std::uint64_t decisions_sent = 0;
+  std::uint64_t statuses_sent = 0;
+  std::uint64_t write_failures = 0;
+};
+
+class AgentNode {
+ public:
+  /// Creates the endpoints: a reader on `<prefix>/robot_<id>/proximity` only, writers on
+  /// `<prefix>/robot_<id>/decision` and `<prefix>/agent_status`.
+  AgentNode(const scenario::Scenario& scenario, std::uint32_t robot_id, transport::Transport& transport);
+
+  /// Waits up to `timeout` for frames and handles every one received (on this thread).
+  void spin_once(std::chrono::nanoseconds timeout);
+
+  /// The robot has left the domain (a `departed` frame was accepted).
+  bool departed() const { return departed_; }
+
+  /// Waits until the arena acknowledged everything sent, up to `timeout`.
+  void flush(std::chrono::nanoseconds timeout);
+
+  const NodeCounters& counters() const { return counters_; }
+  const RetreatAgent& agent() const { return agent_; }
+
+ private:
+  void handle(const wire::ProximityFrame& frame);
+  void publish_status(std::int64_t tick, double time);
+
+  transport::Transport& transport_;
+  std::uint32_t robot_id_;
+  double status_period_;
+  RetreatAgent agent_;
+  transport::Reader<wire::ProximityFrame> frames_;
+  transport::Writer<wire::Decision> decisions_;
+  transport::Writer<wire::AgentStatus> statuses_;
+  NodeCounters counters_;
+  std::int64_t last_status_slot_ = -1;
+  bool last_retreating_ = false;
+  bool departed_ = false;
+};
+
+/// The participant user data an agent announces: "retreat:agent:robot=<id>".
+std::string agent_user_data(std::uint32_t robot_id);
+
+}  // namespace retreat::agent

@@ -1,0 +1,112 @@
+#pragma once
+/// @file
+/// The world's parameters: the `arena:` section of a scenario file, plus the few `model:`
+/// numbers the physics needs (δ, v, λ_p, λ_d, ρ). The scenario loader fills both this struct and
+/// retreat::model::ModelParams from the same file; the physics never depends on the model library.
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+namespace retreat::physics {
+
+/// How encounters are produced.
+enum class EncounterModel {
+  physical,  ///< unicycles, random walk, barrier certificates; encounters are geometric
+  kinetic,   ///< no positions; encounters, contacts and task events are Poisson processes
+};
+
+/// Shape of the domain D (centred on the origin, axes aligned).
+enum class DomainShape { ellipse, rectangle };
+
+/// What happens when the waiting robots have all entered.
+enum class QueueKind {
+  finite,   ///< robots_waiting robots, then no more
+  endless,  ///< robots_waiting robots are always queued; each entry creates a new robot id
+};
+
+/// Arrival process of waiting robots.
+enum class InfluxKind {
+  steady,   ///< one arrival every 1/(λ_in·|D|) seconds
+  poisson,  ///< Poisson arrivals at rate λ_in·|D|
+};
+
+/// Parameters of a world. Defaults: the paper's Robotarium experiment (MODEL.md §6) with the
+/// Robotarium's platform numbers. Field names are the scenario keys: `arena.<field>` except the
+/// five marked `model.<field>`.
+///
+/// Choosing γ. The cubic barrier starts to slow an approach where (γ/2)h³ ≈ 2·d·v, so the
+/// distance at which robots begin to avoid each other grows as γ/v shrinks. The encounter model
+/// (Ω_c = 4δ(4/π)vλ) assumes robots pass within 2δ as if they did not avoid each other, so the
+/// barrier must act inside 2δ: γ ≳ 10⁵·v (per m/s). Measured onset rate / Ω_c at the
+/// Robotarium experiment's numbers (δ = 0.1, v = 0.1, D_s = 0.13, l = 0.04, λ = 1.5): γ = 100:
+/// 0 (no robot ever comes within 2δ, so every λ̂ would be 0), 10³: 0.49, 3·10³: 0.83,
+/// 10⁴: 0.99. Hence the default 10⁴ (the Robotarium MATLAB simulator's value), not the Python
+/// simulator's 100. Scale γ with v (10⁵ at v = 1) to keep the same geometry.
+struct WorldParams {
+  // --- arena: what is simulated ---------------------------------------------------------------
+  std::string encounter_model = "physical";  ///< `physical` or `kinetic`
+  std::string shape = "ellipse";             ///< `ellipse` or `rectangle`
+  double semi_axis_x = 1.2;  ///< ellipse semi-axis along x [m]
+  double semi_axis_y = 0.8;  ///< ellipse semi-axis along y [m]
+  double width = 3.2;        ///< rectangle extent along x [m]
+  double height = 2.0;       ///< rectangle extent along y [m]
+  std::uint32_t robots_inside = 8;   ///< robots in D at t = 0 (ids 0 .. robots_inside-1)
+  std::uint32_t robots_waiting = 4;  ///< robots queued outside at t = 0 (the next ids)
+  std::string queue = "finite";      ///< `finite` or `endless`
+  std::string influx = "steady";     ///< `steady` or `poisson`
+  double lambda_in = 0.02;           ///< λ_in: influx [robots/(m²·s)]; arrivals λ_in·|D| per s
+
+  // --- arena: time ------------------------------------------------------------------------------
+  double physics_dt = 0.01;  ///< integration step [s]
+  double tick_dt = 0.03;     ///< the agents' dt, one frame per tick [s]; a multiple of physics_dt
+
+  // --- arena: robots and barrier certificates --------------------------------------------------
+  double robot_radius = 0.055;       ///< footprint radius r [m]
+  double max_speed = 0.2;            ///< |linear speed| limit [m/s]
+  double max_turn_rate = 3.6;        ///< |turn rate| limit [rad/s]
+  double gamma = 1.0e4;              ///< barrier gain γ in −2(x_i−x_j)ᵀu_i ≤ (γ/2)h³ [1/(m⁴·s)]
+  double safety_distance = 0.13;     ///< D_s: robot centres never come closer [m]
+  double projection_distance = 0.04; ///< l: the controlled point is l ahead of the centre [m]
+  double boundary_gain = 30.0;       ///< α in the boundary barrier nᵀu ≤ α·clearance [1/s]
+  double tumble_rate = 0.02;         ///< random-walk re-orientation rate [1/s] (runs ≫ 2δ)
+  double unblock_time = 2.0;         ///< a walker held below v/2 this long re-orients [s] (≈ 2δ/v)
+  bool record_encounters = false;    ///< keep per-pair and per-robot contact intervals
+  std::uint64_t seed = 1;            ///< scenario seed; every random stream derives from it
+
+  // --- model: the paper's numbers the physics needs ---------------------------------------------
+  double v = 0.1;          ///< `model.v`: speed of the random walk [m/s]
+  double delta = 0.1;      ///< `model.delta`: δ; contact within 2δ, pick-up within δ [m]
+  double lambda_p = 1.32;  ///< `model.lambda_p`: pick-up location density [1/m²]
+  double lambda_d = 1.32;  ///< `model.lambda_d`: drop-off location density [1/m²]
+  double rho = 2.44;       ///< `model.rho`: contact resolution rate, kinetic world only [1/s]
+
+  /// Checks every field and the cross-field conditions (2r ≤ D_s < 2δ, r < δ, v ≤ max_speed,
+  /// v ≤ l·max_turn_rate, integer substeps, the domain fits a robot, the robots fit the domain).
+  /// @throws std::invalid_argument with one line naming the first bad key, its value and the
+  ///         allowed range, e.g. `arena.physics_dt = 0.02: must divide arena.tick_dt (0.03) ...`.
+  void validate() const;
+};
+
+/// Maximal robot count a world accepts: the robots' safety discs (diameter D_s) may cover at most
+/// 40 % of the walkable area (D shrunk by r + l). Random sequential placement reaches 40 %
+/// quickly; its jamming limit is 54.7 %.
+std::uint32_t max_robots(const WorldParams& params);
+
+/// Parses `physical` / `kinetic`. @throws std::invalid_argument naming `arena.encounter_model`.
+EncounterModel parse_encounter_model(std::string_view name);
+/// Parses `ellipse` / `rectangle`. @throws std::invalid_argument naming `arena.shape`.
+DomainShape parse_domain_shape(std::string_view name);
+/// Parses `finite` / `endless`. @throws std::invalid_argument naming `arena.queue`.
+QueueKind parse_queue_kind(std::string_view name);
+/// Parses `steady` / `poisson`. @throws std::invalid_argument naming `arena.influx`.
+InfluxKind parse_influx_kind(std::string_view name);
+
+/// Physics substeps per tick, round(tick_dt / physics_dt). Precondition: validate() passed.
+std::int64_t substeps_per_tick(const WorldParams& params);
+
+/// Distance inside the boundary of D beyond which the walk reflects its projected point:
+/// r + l + v·(2·physics_dt + 1/boundary_gain) [m] (see random_walk.hpp).
+double walk_inset(const WorldParams& params);
+
+}  // namespace retreat::physics

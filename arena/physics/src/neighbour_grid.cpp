@@ -1,0 +1,55 @@
+#include "retreat/physics/neighbour_grid.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace retreat::physics {
+
+NeighbourGrid::NeighbourGrid(const Vec2& lo, const Vec2& hi, double min_cell_size,
+                             std::size_t max_cells)
+    : lo_(lo), cell_(min_cell_size) {
+  const Vec2 extent = (hi - lo).cwiseMax(Vec2::Constant(1e-9));
+  // Enlarge the cells until there are at most max_cells of them.
+  while (std::ceil(extent.x() / cell_) * std::ceil(extent.y() / cell_) >
+         static_cast<double>(max_cells)) {
+    cell_ *= 1.25;
+  }
+  inv_cell_ = 1.0 / cell_;
+  nx_ = std::max(1, static_cast<int>(std::ceil(extent.x() / cell_)));
+  ny_ = std::max(1, static_cast<int>(std::ceil(extent.y() / cell_)));
+  start_.assign(static_cast<std::size_t>(nx_) * static_cast<std::size_t>(ny_) + 1, 0);
+}
+
+int NeighbourGrid::cell_x(double x) const noexcept {
+  const double c = std::floor((x - lo_.x()) * inv_cell_);
+  return c <= 0.0 ? 0 : (c >= nx_ - 1 ? nx_ - 1 : static_cast<int>(c));
+}
+
+int NeighbourGrid::cell_y(double y) const noexcept {
+  const double c = std::floor((y - lo_.y()) * inv_cell_);
+  return c <= 0.0 ? 0 : (c >= ny_ - 1 ? ny_ - 1 : static_cast<int>(c));
+}
+
+void NeighbourGrid::build(const std::vector<Vec2>& points) {
+  const std::size_t n = points.size();
+  std::fill(start_.begin(), start_.end(), 0);
+  cell_of_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint32_t cell = static_cast<std::uint32_t>(cell_y(points[i].y()) * nx_ +
+                                                          cell_x(points[i].x()));
+    cell_of_[i] = cell;
+    ++start_[cell + 1];
+  }
+  for (std::size_t c = 1; c < start_.size(); ++c) {
+    start_[c] += start_[c - 1];
+  }
+  order_.resize(n);
+  // Stable fill: within a cell, points keep ascending index order (deterministic iteration).
+  std::vector<std::uint32_t>& next = scratch_;
+  next.assign(start_.begin(), start_.end() - 1);
+  for (std::size_t i = 0; i < n; ++i) {
+    order_[next[cell_of_[i]]++] = static_cast<std::uint32_t>(i);
+  }
+}
+
+}  // namespace retreat::physics

@@ -1,0 +1,226 @@
+#include "retreat/physics/params.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "retreat/physics/domain.hpp"
+#include "retreat/physics/types.hpp"
+
+namespace retreat::physics {
+namespace {
+
+constexpr double pi = 3.14159265358979323846;
+
+/// Shortest text that reads back as @p value.
+std::string text(double value) {
+  if (std::isnan(value)) {
+    return "nan";
+  }
+  if (std::isinf(value)) {
+    return value > 0 ? "inf" : "-inf";
+  }
+  char buffer[64];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+  return std::string(buffer, result.ptr);
+}
+
+[[noreturn]] void reject(std::string_view key, const std::string& value, const std::string& rule) {
+  throw std::invalid_argument(std::string(key) + " = " + value + ": " + rule);
+}
+
+void require(bool ok, std::string_view key, double value, const std::string& rule) {
+  if (!ok) {
+    reject(key, text(value), rule);
+  }
+}
+
+void require_positive(std::string_view key, double value, std::string_view unit) {
+  require(std::isfinite(value) && value > 0.0, key, value,
+          "must be finite and > 0 (" + std::string(unit) + ")");
+}
+
+void require_non_negative(std::string_view key, double value, std::string_view unit) {
+  require(std::isfinite(value) && value >= 0.0, key, value,
+          "must be finite and >= 0 (" + std::string(unit) + ")");
+}
+
+[[noreturn]] void reject_name(std::string_view key, std::string_view name,
+                              std::string_view allowed) {
+  reject(key, "'" + std::string(name) + "'", "must be one of " + std::string(allowed));
+}
+
+Domain domain_of(const WorldParams& p) {
+  return parse_domain_shape(p.shape) == DomainShape::ellipse
+             ? Domain::ellipse(p.semi_axis_x, p.semi_axis_y)
+             : Domain::rectangle(p.width, p.height);
+}
+
+}  // namespace
+
+std::string_view to_string(Phase phase) {
+  switch (phase) {
+    case Phase::waiting: return "waiting";
+    case Phase::inside: return "inside";
+    case Phase::retreating: return "retreating";
+    case Phase::departed: return "departed";
+  }
+  return "?";
+}
+
+std::string_view to_string(TaskState state) {
+  switch (state) {
+    case TaskState::f: return "f";
+    case TaskState::l: return "l";
+    case TaskState::fc: return "fc";
+    case TaskState::lc: return "lc";
+  }
+  return "?";
+}
+
+EncounterModel parse_encounter_model(std::string_view name) {
+  if (name == "physical") return EncounterModel::physical;
+  if (name == "kinetic") return EncounterModel::kinetic;
+  reject_name("arena.encounter_model", name, "physical, kinetic");
+}
+
+DomainShape parse_domain_shape(std::string_view name) {
+  if (name == "ellipse") return DomainShape::ellipse;
+  if (name == "rectangle") return DomainShape::rectangle;
+  reject_name("arena.shape", name, "ellipse, rectangle");
+}
+
+QueueKind parse_queue_kind(std::string_view name) {
+  if (name == "finite") return QueueKind::finite;
+  if (name == "endless") return QueueKind::endless;
+  reject_name("arena.queue", name, "finite, endless");
+}
+
+InfluxKind parse_influx_kind(std::string_view name) {
+  if (name == "steady") return InfluxKind::steady;
+  if (name == "poisson") return InfluxKind::poisson;
+  reject_name("arena.influx", name, "steady, poisson");
+}
+
+std::int64_t substeps_per_tick(const WorldParams& params) {
+  return std::llround(params.tick_dt / params.physics_dt);
+}
+
+double walk_inset(const WorldParams& params) {
+  return params.robot_radius + params.projection_distance +
+         params.v * (2.0 * params.physics_dt + 1.0 / params.boundary_gain);
+}
+
+std::uint32_t max_robots(const WorldParams& params) {
+  const double disc = pi * 0.25 * params.safety_distance * params.safety_distance;
+  const double walkable = domain_of(params).inset_area(params.robot_radius +
+                                                       params.projection_distance);
+  return static_cast<std::uint32_t>(std::floor(0.4 * walkable / disc));
+}
+
+void WorldParams::validate() const {
+  const EncounterModel model = parse_encounter_model(encounter_model);
+  const DomainShape domain_shape = parse_domain_shape(shape);
+  const QueueKind queue_kind = parse_queue_kind(queue);
+  parse_influx_kind(influx);
+
+  // Robot and model numbers first: the domain checks below use them.
+  require_positive("arena.robot_radius", robot_radius, "m");
+  require_positive("model.delta", delta, "m");
+  require(delta > robot_radius, "model.delta", delta,
+          "must be > arena.robot_radius (" + text(robot_radius) +
+              " m): the sensing skirt must reach beyond the footprint");
+  require_positive("arena.safety_distance", safety_distance, "m");
+  require(safety_distance >= 2.0 * robot_radius, "arena.safety_distance", safety_distance,
+          "must be >= 2 * arena.robot_radius (" + text(2.0 * robot_radius) +
+              " m) or footprints may overlap");
+  if (model == EncounterModel::physical) {
+    require(2.0 * delta > safety_distance, "model.delta", delta,
+            "must be > arena.safety_distance / 2 (" + text(0.5 * safety_distance) +
+                " m) or no two robots can ever come within 2 delta");
+  }
+  require_positive("model.v", v, "m/s");
+  require_positive("arena.max_speed", max_speed, "m/s");
+  require(v <= max_speed, "model.v", v,
+          "must be <= arena.max_speed (" + text(max_speed) + " m/s)");
+  require_positive("arena.projection_distance", projection_distance, "m");
+  require(projection_distance < robot_radius + delta, "arena.projection_distance",
+          projection_distance,
+          "must be < arena.robot_radius + model.delta (" + text(robot_radius + delta) + " m)");
+  require_positive("arena.max_turn_rate", max_turn_rate, "rad/s");
+  if (model == EncounterModel::physical) {
+    require(v <= projection_distance * max_turn_rate * (1.0 + 1e-12), "arena.max_turn_rate",
+            max_turn_rate,
+            "must be >= model.v / arena.projection_distance (" + text(v / projection_distance) +
+                " rad/s) so that the projected point can move at speed v in any direction");
+  }
+  require_non_negative("model.lambda_p", lambda_p, "1/m^2");
+  require_non_negative("model.lambda_d", lambda_d, "1/m^2");
+  if (model == EncounterModel::kinetic) {
+    require_positive("model.rho", rho, "1/s");
+  }
+
+  // Time.
+  require_positive("arena.tick_dt", tick_dt, "s");
+  require_positive("arena.physics_dt", physics_dt, "s");
+  require(physics_dt <= tick_dt, "arena.physics_dt", physics_dt,
+          "must be <= arena.tick_dt (" + text(tick_dt) + " s)");
+  const double ratio = tick_dt / physics_dt;
+  require(std::abs(ratio - std::round(ratio)) <= 1e-9 * ratio, "arena.physics_dt", physics_dt,
+          "must divide arena.tick_dt (" + text(tick_dt) + " s) into a whole number of steps");
+  if (model == EncounterModel::physical) {
+    require(max_speed * physics_dt <= 0.25 * delta, "arena.physics_dt", physics_dt,
+            "must be <= model.delta / (4 * arena.max_speed) (" +
+                text(0.25 * delta / max_speed) + " s) so that encounters are resolved");
+    require(max_turn_rate * physics_dt <= 0.5, "arena.physics_dt", physics_dt,
+            "must be <= 0.5 / arena.max_turn_rate (" + text(0.5 / max_turn_rate) + " s)");
+  }
+  require_positive("arena.gamma", gamma, "1/(m^4 s)");
+  require_positive("arena.boundary_gain", boundary_gain, "1/s");
+  require(boundary_gain * physics_dt <= 1.0, "arena.boundary_gain", boundary_gain,
+          "must be <= 1 / arena.physics_dt (" + text(1.0 / physics_dt) + " 1/s)");
+  require_non_negative("arena.tumble_rate", tumble_rate, "1/s");
+  require_positive("arena.unblock_time", unblock_time, "s");
+  require_non_negative("arena.lambda_in", lambda_in, "robots/(m^2 s)");
+
+  // Domain.
+  const double inset = walk_inset(*this);
+  if (domain_shape == DomainShape::ellipse) {
+    require_positive("arena.semi_axis_x", semi_axis_x, "m");
+    require_positive("arena.semi_axis_y", semi_axis_y, "m");
+    require(semi_axis_x > 2.0 * inset, "arena.semi_axis_x", semi_axis_x,
+            "must be > " + text(2.0 * inset) + " m (twice the walk inset r + l + margin)");
+    require(semi_axis_y > 2.0 * inset, "arena.semi_axis_y", semi_axis_y,
+            "must be > " + text(2.0 * inset) + " m (twice the walk inset r + l + margin)");
+  } else {
+    require_positive("arena.width", width, "m");
+    require_positive("arena.height", height, "m");
+    require(width > 4.0 * inset, "arena.width", width,
+            "must be > " + text(4.0 * inset) + " m (four times the walk inset r + l + margin)");
+    require(height > 4.0 * inset, "arena.height", height,
+            "must be > " + text(4.0 * inset) + " m (four times the walk inset r + l + margin)");
+  }
+
+  // Population.
+  if (queue_kind == QueueKind::endless) {
+    require(robots_waiting >= 1, "arena.robots_waiting", robots_waiting,
+            "must be >= 1 with arena.queue = endless (the length of the visible queue)");
+  }
+  require(static_cast<double>(robots_inside) + robots_waiting >= 1.0, "arena.robots_inside", robots_inside,
+          "must be >= 1 when arena.robots_waiting = 0");
+  const std::uint32_t fit = max_robots(*this);
+  require(robots_inside <= fit, "arena.robots_inside", robots_inside,
+          "must be <= " + std::to_string(fit) +
+              ": safety discs (diameter arena.safety_distance) may cover at most 40 % of the "
+              "walkable area");
+  if (queue_kind == QueueKind::finite) {
+    require(static_cast<double>(robots_inside) + robots_waiting <= fit, "arena.robots_waiting",
+            robots_waiting,
+            "must be <= " + std::to_string(fit - robots_inside) +
+                " (robots_inside + robots_waiting may all be inside at once; at most " +
+                std::to_string(fit) + " fit)");
+  }
+}
+
+}  // namespace retreat::physics

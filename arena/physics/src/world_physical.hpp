@@ -1,0 +1,74 @@
+#pragma once
+/// @file
+/// The physical world (private header; use make_world()).
+
+#include <vector>
+
+#include "retreat/physics/barrier_certificate.hpp"
+#include "retreat/physics/collection_task.hpp"
+#include "retreat/physics/encounter_tracker.hpp"
+#include "retreat/physics/neighbour_grid.hpp"
+#include "retreat/physics/random_walk.hpp"
+#include "retreat/physics/unicycle.hpp"
+#include "world_base.hpp"
+
+namespace retreat::physics::detail {
+
+/// Unicycles doing the random walk under decentralized barrier certificates. Each physics step:
+/// act (Euler-integrate the commands computed at the previous sample, add the step to each
+/// inside robot's task-state time), transitions (retreating robots whose footprint is outside D
+/// depart; entering robots whose projected point reached the walk region start walking),
+/// arrivals, then sense (one grid pass per robot collects partners within 2δ and the
+/// neighbours within the barrier's interaction range; encounters, pick-up/drop-off, walk
+/// update and the QP follow).
+class PhysicalWorld final : public WorldBase {
+ public:
+  explicit PhysicalWorld(const WorldParams& params);
+
+  void step_tick() override;
+  Telemetry telemetry() const override;
+  Poses poses() const override;
+  std::vector<ContactRecord> take_contact_records() override { return tracker_.take_records(); }
+
+ private:
+  struct Body {
+    Pose pose;
+    WalkState walk;
+    Vec2 entry_direction = Vec2::UnitX();
+    UnicycleCommand command;
+    Rng rng;
+    TaskState sensed_state = TaskState::f;
+    bool entering = false;
+  };
+
+  void on_robot_created(RobotId id) override;
+  void on_retreat(RobotId id) override;
+  void step_physics();
+  bool try_enter(RobotId id);
+  void sense(bool initial);
+
+  BarrierCertificate barrier_;
+  NeighbourGrid grid_;
+  CollectionTask task_;
+  EncounterTracker tracker_;
+  std::vector<Body> bodies_;      // by id
+  std::vector<RobotId> active_;   // robots in D (inside or retreating), ascending id
+  std::int64_t step_ = 0;
+  std::int64_t substeps_ = 1;
+  double dt_ = 0.01;
+  double body_inset_ = 0.0;       // r + l: clearance of q that keeps the footprint in D
+  double walk_margin_ = 0.0;      // walk_inset − body_inset: where the walk reflects
+  double boundary_zone_ = 0.0;    // clearance below which the boundary needs exact treatment
+  double entry_clearance_ = 0.0;  // no robot centre this close to an entry point
+  std::uint64_t qp_relaxed_ = 0;
+  // Snapshot of the robots in D at the last sample, in active_ order.
+  std::vector<Vec2> position_;
+  std::vector<Vec2> heading_;
+  std::vector<Vec2> projected_;
+  std::vector<Vec2> entrants_;    // robots placed since the last snapshot
+  // Scratch.
+  std::vector<HalfPlane> constraints_;
+  std::vector<RobotId> partners_;
+};
+
+}  // namespace retreat::physics::detail

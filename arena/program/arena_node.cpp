@@ -1,0 +1,237 @@
+#include "arena_node.hpp"
+
+#include <cmath>
+
+#include "retreat/wire/topics.hpp"
+
+namespace retreat::arena {
+
+using namespace std::chrono_literals;
+
+struct ArenaNode::Robot {
+  std::uint32_t id;
+  transport::Writer<wire::ProximityFrame> frames;
+  transport::Reader<wire::Decision> decisions;
+  AgentRecord record;
+  bool expecting = false;  ///< a frame of the current tick is waiting for this agent's answer
+  bool answered = false;
+  bool retreat = false;       ///< the answer for the current tick (or, real time, any answer)
+  bool commanded = false;     ///< the world was told to retreat this robot
+  wire::Phase phase = wire::Phase::waiting;
+};
+
+namespace {
+
+wire::Phase to_wire(physics::Phase p) { return static_cast<wire::Phase>(static_cast<std::uint8_t>(p)); }
+
+}  // namespace
+
+ArenaNode::ArenaNode(const scenario::Scenario& scenario, transport::Transport& transport,
+                     RunRecorder* recorder)
+    : scenario_(scenario),
+      transport_(transport),
+      recorder_(recorder),
+      world_(physics::make_world(scenario.arena)),
+      telemetry_(transport.create_writer<wire::ArenaTelemetry>(
+          {wire::arena_telemetry_topic(scenario.dds.prefix), transport::QosIntent::state()})),
+      poses_(transport.create_writer<wire::Poses>(
+          {wire::poses_topic(scenario.dds.prefix), transport::QosIntent::state()})) {
+  for (const auto& f : world_->frames()) robot(f.id);
+}
+
+ArenaNode::~ArenaNode() = default;
+
+ArenaNode::Robot& ArenaNode::robot(std::uint32_t id) {
+  auto& slot = robots_[id];
+  if (!slot) {
+    const auto& prefix = scenario_.dds.prefix;
+    slot = std::make_unique<Robot>(Robot{
+        id,
+        transport_.create_writer<wire::ProximityFrame>({wire::proximity_topic(prefix, id), transport::QosIntent::control()}),
+        transport_.create_reader<wire::Decision>({wire::decision_topic(prefix, id), transport::QosIntent::control()}),
+        AgentRecord{id}});
+  }
+  return *slot;
+}
+
+std::uint32_t ArenaNode::wait_for_agents(std::chrono::nanoseconds timeout, const KeepGoing& keep_going) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  auto matched = [](const Robot& r) { return r.frames.matched_count() > 0 && r.decisions.matched_count() > 0; };
+  for (;;) {
+    std::uint32_t n = 0;
+    for (const auto& [id, r] : robots_) n += matched(*r) ? 1 : 0;
+    if (n == robots_.size() || std::chrono::steady_clock::now() >= deadline || !keep_going()) break;
+    std::this_thread::sleep_for(10ms);
+  }
+  agents_started_ = 0;
+  for (auto& [id, r] : robots_) {
+    r->record.matched = matched(*r);
+    if (r->record.matched) {
+      ++agents_started_;
+    } else {
+      r->record.lost = true;  // never came: the robot works without a retreat layer
+      r->record.lost_at = 0.0;
+    }
+  }
+  started_ = std::chrono::steady_clock::now();
+  return agents_started_;
+}
+
+void ArenaNode::publish_tick() {
+  for (const auto& f : world_->frames()) {
+    auto& r = robot(f.id);
+    r.phase = to_wire(f.phase);
+    const wire::ProximityFrame frame{f.id, f.tick, f.time, r.phase, f.in_contact, f.new_onsets};
+    r.answered = false;
+    if (!r.commanded) r.retreat = false;
+    r.expecting = !r.record.lost && f.phase != physics::Phase::departed;
+    if (r.frames.write(frame) != transport::WriteResult::ok && r.expecting) {
+      // The agent's reader has stopped acknowledging: treat it like a silent agent.
+      r.expecting = false;
+      r.record.lost = true;
+      r.record.lost_at = f.time;
+    }
+  }
+  publish_observations();
+}
+
+void ArenaNode::publish_observations() {
+  const auto t = world_->telemetry();
+  const auto slot = static_cast<std::int64_t>(std::floor(t.time / scenario_.run.telemetry_period + 1e-9));
+  if (slot == last_published_slot_) return;
+  last_published_slot_ = slot;
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
+  wire::ArenaTelemetry m;
+  m.arena_id = 0;
+  m.tick = t.tick;
+  m.time = t.time;
+  m.inside = t.inside;
+  m.waiting = t.waiting;
+  m.retreating = t.retreating;
+  m.departed = t.departed;
+  m.lost_agents = agents_lost();
+  m.true_density = t.true_density;
+  m.deliveries = t.deliveries;
+  m.ticks_per_second = wall > 0 ? static_cast<double>(t.tick) / wall : 0.0;
+  telemetry_.write(m);
+  const auto p = world_->poses();
+  wire::Poses poses;
+  poses.arena_id = 0;
+  poses.tick = p.tick;
+  poses.time = p.time;
+  for (const auto& r : p.robots) {
+    poses.robots.push_back({r.id, static_cast<float>(r.x), static_cast<float>(r.y),
+                            static_cast<float>(r.theta), to_wire(r.phase), r.loaded});
+  }
+  for (const auto& q : p.pickups) poses.pickups.push_back({static_cast<float>(q.x()), static_cast<float>(q.y())});
+  for (const auto& q : p.dropoffs) poses.dropoffs.push_back({static_cast<float>(q.x()), static_cast<float>(q.y())});
+  poses_.write(poses);
+}
+
+void ArenaNode::take_decisions(Robot& r) {
+  const auto current = tick();
+  for (const auto& d : r.decisions.take()) {
+    if (r.phase == wire::Phase::departed) continue;  // the answer to its last frame: nothing to do
+    if (d.robot_id >= world_->robot_count()) {
+      ++counters_.unknown_robot;
+    } else if (d.tick > current) {
+      ++counters_.future;
+    } else if (scenario_.run.mode == "lockstep" && (d.tick < current || r.record.lost)) {
+      ++counters_.stale;  // lockstep answers only count for the tick they answer
+    } else {
+      if (d.tick == current) r.answered = true;
+      if (d.retreat && !r.record.retreated) {
+        r.record.retreated = true;
+        r.record.retreat_at = world_->telemetry().time;
+      }
+      r.retreat = r.retreat || d.retreat;
+    }
+  }
+  counters_.invalid = 0;
+  for (const auto& [id, other] : robots_) counters_.invalid += other->decisions.stats().dropped_total();
+}
+
+bool ArenaNode::all_answered() const {
+  for (const auto& [id, r] : robots_) {
+    if (r->expecting && !r->answered && !r->record.lost) return false;
+  }
+  return true;
+}
+
+void ArenaNode::collect_available() {
+  for (auto& [id, r] : robots_) take_decisions(*r);
+}
+
+bool ArenaNode::collect_lockstep(const KeepGoing& keep_going) {
+  const auto timeout = std::chrono::duration<double>(scenario_.run.agent_timeout);
+  const auto deadline = std::chrono::steady_clock::now() +
+                        std::chrono::duration_cast<std::chrono::steady_clock::duration>(timeout);
+  for (;;) {
+    collect_available();
+    if (all_answered()) return true;
+    if (!keep_going()) return false;
+    if (std::chrono::steady_clock::now() >= deadline) {
+      for (auto& [id, r] : robots_) {
+        if (r->expecting && !r->answered && !r->record.lost) {
+          r->record.lost = true;
+          r->record.lost_at = world_->telemetry().time;
+        }
+      }
+      return true;
+    }
+    transport_.wait(5ms);
+  }
+}
+
+void ArenaNode::step() {
+  const auto current = tick();
+  for (const auto& f : world_->frames()) {
+    auto& r = robot(f.id);
+    const bool retreat = r.retreat && f.phase == physics::Phase::inside;
+    hash_.add(current, f.id, static_cast<std::uint8_t>(f.phase), r.retreat);
+    if (retreat && !r.commanded) {
+      if (world_->command_retreat(f.id) == physics::CommandVerdict::accepted) ++counters_.applied;
+      r.commanded = true;
+    }
+  }
+  world_->step_tick();
+  for (const auto& f : world_->frames()) robot(f.id);  // endless queue: new robots appear
+  if (recorder_ != nullptr) {
+    recorder_->record_tick(world_->telemetry());
+    if (scenario_.arena.record_encounters) recorder_->record_contacts(world_->take_contact_records());
+  }
+}
+
+bool ArenaNode::finished() const {
+  const auto t = world_->telemetry();
+  if (t.time >= scenario_.run.duration - 1e-9) return true;
+  return t.inside == 0 && t.retreating == 0 && t.waiting == 0 && t.tick > 0;
+}
+
+std::int64_t ArenaNode::tick() const { return world_->telemetry().tick; }
+
+std::uint32_t ArenaNode::agents_lost() const {
+  std::uint32_t n = 0;
+  for (const auto& [id, r] : robots_) n += r->record.lost && r->record.matched ? 1 : 0;
+  return n;
+}
+
+RunSummary ArenaNode::finish(double wall_seconds) {
+  publish_observations();
+  RunSummary s;
+  s.ticks = tick();
+  s.wall_seconds = wall_seconds;
+  s.agents_started = agents_started_;
+  s.agents_lost = agents_lost();
+  s.decisions_dropped = counters_.stale + counters_.future + counters_.unknown_robot + counters_.invalid;
+  s.trajectory_sha256 = hash_.finish();
+  s.dds = std::string(transport_.vendor());
+  if (recorder_ != nullptr) {
+    std::vector<AgentRecord> agents;
+    for (const auto& [id, r] : robots_) agents.push_back(r->record);
+    recorder_->finish(*world_, agents, s);
+  }
+  return s;
+}
+
+}  // namespace retreat::arena

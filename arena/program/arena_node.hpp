@@ -1,0 +1,92 @@
+#pragma once
+/// @file
+/// The one place where the simulated world meets the wire: publishes each robot's proximity
+/// frames on its own topic, reads each robot's decision from its own topic, publishes
+/// ground-truth telemetry and poses, and steps the world in lockstep or real time.
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "retreat/physics/world.hpp"
+#include "retreat/scenario/scenario.hpp"
+#include "retreat/transport/transport.hpp"
+#include "run_recorder.hpp"
+
+namespace retreat::arena {
+
+/// Counters of decisions the arena did not act on.
+struct DecisionCounters {
+  std::uint64_t applied = 0;        ///< retreat decisions passed to the world
+  std::uint64_t stale = 0;          ///< lockstep: answered a past tick (or came from a lost agent)
+  std::uint64_t future = 0;         ///< answered a tick not yet published
+  std::uint64_t unknown_robot = 0;  ///< robot the world does not have
+  std::uint64_t invalid = 0;        ///< dropped by the transport's validation
+};
+
+class ArenaNode {
+ public:
+  using KeepGoing = std::function<bool()>;
+
+  /// `recorder` may be null (no run directory).
+  ArenaNode(const scenario::Scenario& scenario, transport::Transport& transport,
+            RunRecorder* recorder);
+  ~ArenaNode();
+
+  /// Waits until the agent of every robot that exists now has matched both its proximity and
+  /// its decision topic, or until `timeout`; agents that did not are counted lost. Returns the
+  /// number of agents matched.
+  std::uint32_t wait_for_agents(std::chrono::nanoseconds timeout, const KeepGoing& keep_going);
+
+  /// Publishes the current tick's frames (and telemetry and poses when due).
+  void publish_tick();
+
+  /// Lockstep: receives decisions until every live agent answered the current tick; an agent
+  /// silent for run.agent_timeout is declared lost. Returns false if `keep_going` said stop.
+  bool collect_lockstep(const KeepGoing& keep_going);
+
+  /// Takes every decision that has arrived, without waiting (real time, in-process).
+  void collect_available();
+
+  /// True when every live agent has answered the current tick.
+  bool all_answered() const;
+
+  /// Applies the current tick's decisions, hashes the tick, steps the world, records telemetry.
+  void step();
+
+  /// The run is over: duration reached, or every robot has departed and none waits.
+  bool finished() const;
+
+  /// Writes the run directory's summary; returns the summary.
+  RunSummary finish(double wall_seconds);
+
+  const physics::World& world() const { return *world_; }
+  const DecisionCounters& decisions() const { return counters_; }
+  std::uint32_t agents_lost() const;
+  std::int64_t tick() const;
+
+ private:
+  struct Robot;
+  Robot& robot(std::uint32_t id);
+  void take_decisions(Robot& r);
+  void publish_observations();
+
+  scenario::Scenario scenario_;
+  transport::Transport& transport_;
+  RunRecorder* recorder_;
+  std::unique_ptr<physics::World> world_;
+  std::map<std::uint32_t, std::unique_ptr<Robot>> robots_;
+  transport::Writer<wire::ArenaTelemetry> telemetry_;
+  transport::Writer<wire::Poses> poses_;
+  TrajectoryHash hash_;
+  DecisionCounters counters_;
+  std::int64_t last_published_slot_ = -1;
+  std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
+  std::uint32_t agents_started_ = 0;
+};
+
+}  // namespace retreat::arena

@@ -1,0 +1,144 @@
+#include "run_recorder.hpp"
+
+#include <openssl/evp.h>
+
+#include <filesystem>
+#include <iomanip>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <stdexcept>
+
+#include "retreat/model/optimum.hpp"
+#include "retreat/physics/domain.hpp"
+
+namespace retreat::arena {
+
+struct TrajectoryHash::State {
+  EVP_MD_CTX* ctx = EVP_MD_CTX_new();
+  bool finished = false;
+};
+
+TrajectoryHash::TrajectoryHash() : state_(std::make_unique<State>()) {
+  if (state_->ctx == nullptr || EVP_DigestInit_ex(state_->ctx, EVP_sha256(), nullptr) != 1) {
+    throw std::runtime_error("OpenSSL: cannot initialise SHA-256");
+  }
+}
+
+TrajectoryHash::~TrajectoryHash() { EVP_MD_CTX_free(state_->ctx); }
+
+void TrajectoryHash::add(std::int64_t tick, std::uint32_t robot, std::uint8_t phase, bool retreat) {
+  // Fixed little-endian layout: 8 bytes tick, 4 bytes robot, 1 byte phase, 1 byte decision.
+  unsigned char record[14];
+  for (int i = 0; i < 8; ++i) record[i] = static_cast<unsigned char>(static_cast<std::uint64_t>(tick) >> (8 * i));
+  for (int i = 0; i < 4; ++i) record[8 + i] = static_cast<unsigned char>(robot >> (8 * i));
+  record[12] = phase;
+  record[13] = retreat ? 1 : 0;
+  EVP_DigestUpdate(state_->ctx, record, sizeof record);
+}
+
+std::string TrajectoryHash::finish() {
+  unsigned char digest[EVP_MAX_MD_SIZE];
+  unsigned int size = 0;
+  EVP_DigestFinal_ex(state_->ctx, digest, &size);
+  std::ostringstream out;
+  for (unsigned int i = 0; i < size; ++i) {
+    out << std::hex << std::setw(2) << std::setfill('0') << static_cast<int>(digest[i]);
+  }
+  return out.str();
+}
+
+RunRecorder::RunRecorder(const std::string& dir, const scenario::Scenario& scenario)
+    : dir_(dir), scenario_(scenario) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir_, ec);
+  if (ec) throw std::runtime_error("--out '" + dir_ + "': cannot create the directory: " + ec.message());
+  std::ofstream(dir_ + "/scenario.yaml") << scenario::dump(scenario);
+  telemetry_.open(dir_ + "/telemetry.csv");
+  if (!telemetry_) throw std::runtime_error("--out '" + dir_ + "': cannot write telemetry.csv");
+  telemetry_ << "tick,time,inside,waiting,retreating,departed,true_density,deliveries,onsets,"
+                "free,loaded,free_colliding,loaded_colliding\n";
+  if (scenario.arena.record_encounters) {
+    encounters_.open(dir_ + "/encounters.csv");
+    encounters_ << "robot,other,onset_time,end_time\n";
+  }
+}
+
+void RunRecorder::record_tick(const physics::Telemetry& t) {
+  telemetry_ << t.tick << ',' << t.time << ',' << t.inside << ',' << t.waiting << ','
+             << t.retreating << ',' << t.departed << ',' << t.true_density << ',' << t.deliveries
+             << ',' << t.onsets;
+  for (const auto n : t.state_counts) telemetry_ << ',' << n;
+  telemetry_ << '\n';
+  population_.emplace_back(t.time, t.inside);
+  last_ = t;
+}
+
+void RunRecorder::record_contacts(const std::vector<physics::ContactRecord>& records) {
+  if (!encounters_.is_open()) return;
+  for (const auto& r : records) {
+    encounters_ << r.robot << ',' << r.other << ',' << r.start << ',' << r.end << '\n';
+  }
+}
+
+void RunRecorder::finish(const physics::World& world, const std::vector<AgentRecord>& agents,
+                         const RunSummary& summary) {
+  telemetry_.flush();
+  if (encounters_.is_open()) encounters_.flush();
+  {
+    std::ofstream out(dir_ + "/agents.csv");
+    out << "robot,agent_matched,agent_lost,lost_at,retreated,retreat_at,entered_at,departed_at,"
+           "onsets,pickups,deliveries\n";
+    for (const auto& a : agents) {
+      if (a.robot >= world.robot_count()) continue;
+      const auto& s = world.robot_stats(a.robot);
+      out << a.robot << ',' << a.matched << ',' << a.lost << ',' << a.lost_at << ','
+          << a.retreated << ',' << a.retreat_at << ',' << s.entered_at << ',' << s.departed_at
+          << ',' << s.onsets << ',' << s.pickups << ',' << s.deliveries << '\n';
+    }
+  }
+  const auto& p = world.params();
+  const auto domain = p.shape == "ellipse" ? physics::Domain::ellipse(p.semi_axis_x, p.semi_axis_y)
+                                           : physics::Domain::rectangle(p.width, p.height);
+  const double lambda_star = model::lambda_star(scenario_.model);
+  double sum = 0.0;
+  std::size_t count = 0;
+  const double end_time = population_.empty() ? 0.0 : population_.back().first;
+  for (const auto& [time, inside] : population_) {
+    if (time >= end_time - 300.0) {
+      sum += inside;
+      ++count;
+    }
+  }
+  nlohmann::json j;
+  j["scenario"] = scenario_.name;
+  j["seed"] = scenario_.seed;
+  j["dds"] = summary.dds;
+  j["mode"] = scenario_.run.mode;
+  j["controller"] = scenario_.agent.controller;
+  j["encounter_model"] = p.encounter_model;
+  j["area"] = domain.area();
+  j["lambda_star"] = lambda_star;
+  j["optimal_population"] = lambda_star * domain.area();
+  j["population"]["final"] = last_.inside;
+  j["population"]["mean_last_300s"] = count > 0 ? sum / static_cast<double>(count) : 0.0;
+  j["ticks"] = summary.ticks;
+  j["simulated_seconds"] = last_.time;
+  j["wall_seconds"] = summary.wall_seconds;
+  j["ticks_per_second"] = summary.wall_seconds > 0 ? static_cast<double>(summary.ticks) / summary.wall_seconds : 0.0;
+  j["agents"]["started"] = summary.agents_started;
+  j["agents"]["lost"] = summary.agents_lost;
+  j["agents"]["retreated"] = std::count_if(agents.begin(), agents.end(), [](const auto& a) { return a.retreated; });
+  j["robots"]["departed"] = last_.departed;
+  j["robots"]["waiting"] = last_.waiting;
+  j["deliveries"] = last_.deliveries;
+  j["decisions_dropped"] = summary.decisions_dropped;
+  j["commands"]["accepted"] = last_.commands.accepted;
+  j["commands"]["rejected_not_inside"] = last_.commands.rejected_not_inside;
+  j["commands"]["rejected_unknown"] = last_.commands.rejected_unknown;
+  j["trajectory_sha256"] = summary.trajectory_sha256;
+  const std::string tmp = dir_ + "/summary.json.tmp";
+  std::ofstream(tmp) << j.dump(2) << '\n';
+  std::filesystem::rename(tmp, dir_ + "/summary.json");  // readers never see half a summary
+}
+
+}  // namespace retreat::arena

@@ -1,0 +1,81 @@
+#pragma once
+/// @file
+/// Writes a run directory: the resolved scenario, per-tick telemetry (CSV), per-agent history
+/// (CSV), encounter records (CSV, when asked), and summary.json with the trajectory hash.
+
+#include <cstdint>
+#include <fstream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "retreat/physics/world.hpp"
+#include "retreat/scenario/scenario.hpp"
+
+namespace retreat::arena {
+
+/// SHA-256 over every tick's (tick, robot id, phase, decision), so that two runs can be
+/// compared for identity whatever carried the messages.
+class TrajectoryHash {
+ public:
+  TrajectoryHash();
+  ~TrajectoryHash();
+  TrajectoryHash(const TrajectoryHash&) = delete;
+  TrajectoryHash& operator=(const TrajectoryHash&) = delete;
+  void add(std::int64_t tick, std::uint32_t robot, std::uint8_t phase, bool retreat);
+  /// Hex digest; the hash cannot be extended afterwards.
+  std::string finish();
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+/// What the arena knows about one agent at the end of the run.
+struct AgentRecord {
+  std::uint32_t robot = 0;
+  bool matched = false;    ///< its agent was matched at start (or when its robot appeared)
+  bool lost = false;       ///< declared lost (stopped answering in lockstep)
+  double lost_at = -1.0;   ///< simulated time it was declared lost [s]
+  bool retreated = false;  ///< its agent decided to retreat
+  double retreat_at = -1.0;
+};
+
+/// Everything summary.json reports.
+struct RunSummary {
+  std::int64_t ticks = 0;
+  double wall_seconds = 0.0;
+  std::uint32_t agents_started = 0;
+  std::uint32_t agents_lost = 0;
+  std::uint64_t decisions_dropped = 0;  ///< unknown robot, past or future tick, invalid
+  std::string trajectory_sha256;
+  std::string dds;
+};
+
+class RunRecorder {
+ public:
+  /// Creates `dir` (and parents) and writes scenario.yaml. Throws std::runtime_error when the
+  /// directory cannot be written.
+  RunRecorder(const std::string& dir, const scenario::Scenario& scenario);
+
+  /// Appends one telemetry row (every tick).
+  void record_tick(const physics::Telemetry& telemetry);
+  /// Appends completed contact intervals (when arena.record_encounters).
+  void record_contacts(const std::vector<physics::ContactRecord>& records);
+  /// Writes agents.csv and summary.json and flushes everything.
+  void finish(const physics::World& world, const std::vector<AgentRecord>& agents,
+              const RunSummary& summary);
+
+  const std::string& dir() const { return dir_; }
+
+ private:
+  std::string dir_;
+  scenario::Scenario scenario_;
+  std::ofstream telemetry_;
+  std::ofstream encounters_;
+  // population (inside) per tick for the summary's statistics
+  std::vector<std::pair<double, std::uint32_t>> population_;
+  physics::Telemetry last_{};
+};
+
+}  // namespace retreat::arena
