@@ -85,6 +85,9 @@ void ArenaNode::publish_tick() {
     r.answered = false;
     if (!r.commanded) r.retreat = false;
     r.expecting = !r.record.lost && f.phase != physics::Phase::departed;
+    // A lost agent gets no more frames: a reliable writer would otherwise queue them for a
+    // reader that never acknowledges, and block once its history is full.
+    if (r.record.lost) continue;
     if (r.frames.write(frame) != transport::WriteResult::ok && r.expecting) {
       // The agent's reader has stopped acknowledging: treat it like a silent agent.
       r.expecting = false;

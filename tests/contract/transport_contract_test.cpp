@@ -28,8 +28,9 @@ std::string test_name() {
 }
 
 int test_domain() {
-  // Contract tests use domains 10..109 (integration tests use 110..229).
-  return testing::domain_for_test(test_name(), 10, 100);
+  // Domain ids of the test suites: contract 10..79, program tests 80..109, DDS profile tests
+  // 110..159, launcher tests 160..229, cross-vendor 230..231.
+  return testing::domain_for_test(test_name(), 10, 70);
 }
 
 std::string test_prefix() {

@@ -1,0 +1,112 @@
+// The scenario file: shipped scenarios load, dump and reload to the same values; the loader
+// refuses bad input with one line naming the key, the value and what is allowed.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "retreat/model/optimum.hpp"
+#include "retreat/scenario/scenario.hpp"
+
+namespace retreat::scenario {
+namespace {
+
+std::vector<std::string> shipped() {
+  std::vector<std::string> out;
+  for (const auto& e : std::filesystem::directory_iterator(RETREAT_SCENARIOS)) {
+    if (e.path().extension() == ".yaml") out.push_back(e.path().string());
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+TEST(ShippedScenarios, EveryShippedScenarioLoadsAndSurvivesADumpAndReload) {
+  const auto files = shipped();
+  ASSERT_FALSE(files.empty());
+  for (const auto& f : files) {
+    SCOPED_TRACE(f);
+    const auto s = load(f);
+    const auto again = parse(dump(s));
+    EXPECT_EQ(dump(again), dump(s));
+  }
+}
+
+TEST(ShippedScenarios, TheRobotariumScenarioHasTheExperimentsParameters) {
+  const auto s = load(std::string(RETREAT_SCENARIOS) + "/robotarium-2019.yaml");
+  EXPECT_EQ(s.arena.shape, "ellipse");
+  EXPECT_DOUBLE_EQ(s.arena.semi_axis_x, 1.2);
+  EXPECT_DOUBLE_EQ(s.arena.semi_axis_y, 0.8);
+  EXPECT_EQ(s.arena.robots_inside, 8u);
+  EXPECT_EQ(s.arena.robots_waiting, 4u);
+  EXPECT_EQ(s.arena.queue, "finite");
+  EXPECT_DOUBLE_EQ(s.model.lambda_p, 1.32);
+  EXPECT_DOUBLE_EQ(s.model.lambda_d, 1.32);
+  EXPECT_DOUBLE_EQ(s.model.C, 0.03);
+  EXPECT_DOUBLE_EQ(s.model.delta, 0.1);
+  EXPECT_DOUBLE_EQ(s.model.v, 0.1);
+  EXPECT_DOUBLE_EQ(s.agent.L, 90);
+  EXPECT_DOUBLE_EQ(s.agent.dt, 0.03);
+  EXPECT_DOUBLE_EQ(s.agent.K_p, 0.03);
+  EXPECT_DOUBLE_EQ(s.agent.lambda_in, 0.02);
+  EXPECT_EQ(s.agent.controller, "paper");
+  EXPECT_NEAR(model::lambda_star(s.model), 1.5076, 1e-4);
+}
+
+TEST(ScenarioLoader, OverridesApplyInOrderAndReachTheArenasCopies) {
+  const auto s = parse("agent: {dt: 0.03}\n", {"agent.dt=0.05", "seed=42", "model.delta=0.12"});
+  EXPECT_DOUBLE_EQ(s.agent.dt, 0.05);
+  EXPECT_DOUBLE_EQ(s.arena.tick_dt, 0.05);
+  EXPECT_EQ(s.seed, 42u);
+  EXPECT_EQ(s.arena.seed, 42u);
+  EXPECT_DOUBLE_EQ(s.arena.delta, 0.12);
+}
+
+void expect_error(const std::string& yaml, const std::vector<std::string>& overrides,
+                  const std::string& expected) {
+  try {
+    parse(yaml, overrides);
+    ADD_FAILURE() << "accepted: " << yaml;
+  } catch (const ConfigError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(expected), std::string::npos) << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos) << "not one line: " << what;
+  }
+}
+
+TEST(ScenarioLoader, AnUnknownKeyIsNamedWithTheKeysAllowedInItsSection) {
+  expect_error("agent: {window: 90}\n", {}, "unknown key 'agent.window' in <text> (allowed in agent: L, dt, K_p, lambda_in, controller)");
+  expect_error("agnet: {L: 90}\n", {}, "unknown key 'agnet'");
+  expect_error("", {"model.gamma=3"}, "unknown key 'model.gamma' in --set");
+}
+
+TEST(ScenarioLoader, AWrongTypeNamesTheKeyAndTheValue) {
+  expect_error("model: {delta: abc}\n", {}, "model.delta = 'abc': must be a number");
+  expect_error("arena: {robots_inside: 2.5}\n", {}, "arena.robots_inside = '2.5': must be a whole number >= 0");
+  expect_error("arena: {record_encounters: maybe}\n", {}, "arena.record_encounters = 'maybe': must be true or false");
+  expect_error("model: [1, 2]\n", {}, "model in <text>: must be a mapping");
+}
+
+TEST(ScenarioLoader, OutOfRangeValuesNameTheKeyTheValueAndTheRange) {
+  expect_error("", {"model.delta=-0.1"}, "model.delta = -0.1: must be > 0");
+  expect_error("", {"agent.dt=100"}, "agent.dt = 100: must be > 0 and <= agent.L");
+  expect_error("", {"run.mode=fast"}, "run.mode = 'fast': must be one of lockstep, realtime");
+  expect_error("", {"dds.domain=233"}, "dds.domain = 233: must be an integer in 0..232");
+  expect_error("", {"bridge.http=localhost"}, "bridge.http = 'localhost': must be HOST:PORT");
+  expect_error("", {"dds.prefix=a//b"}, "dds.prefix = 'a//b'");
+}
+
+TEST(ScenarioLoader, MalformedYamlNamesTheLine) {
+  expect_error("model:\n  delta: [0.1\n", {}, "<text>: malformed YAML at line");
+}
+
+TEST(ScenarioLoader, AMissingFileIsNamed) {
+  try {
+    load("/nonexistent/scenario.yaml");
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_STREQ(e.what(), "--scenario '/nonexistent/scenario.yaml': cannot read the file (a YAML scenario)");
+  }
+}
+
+}  // namespace
+}  // namespace retreat::scenario

@@ -1,0 +1,169 @@
+// Encounter bookkeeping, the collection task, the influx and the walk's reflection rule.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "retreat/physics/collection_task.hpp"
+#include "retreat/physics/encounter_tracker.hpp"
+#include "retreat/physics/influx.hpp"
+#include "retreat/physics/random_walk.hpp"
+
+namespace retreat::physics {
+namespace {
+
+TEST(PhysicsEncounterTracker, CountsOneOnsetPerNewPartner) {
+  EncounterTracker t(false);
+  EXPECT_EQ(t.update(0, {3, 5}, 0.1), 2u);
+  EXPECT_EQ(t.update(0, {3, 5}, 0.2), 0u);  // still in contact: no new onset
+  EXPECT_EQ(t.update(0, {3, 5, 7}, 0.3), 1u);
+  EXPECT_EQ(t.update(0, {7}, 0.4), 0u);  // partners leaving are not onsets
+  EXPECT_TRUE(t.in_contact(0));
+  EXPECT_EQ(t.update(0, {}, 0.5), 0u);
+  EXPECT_FALSE(t.in_contact(0));
+}
+
+TEST(PhysicsEncounterTracker, APairThatSeparatesAndClosesAgainIsANewOnset) {
+  EncounterTracker t(false);
+  EXPECT_EQ(t.update(1, {2}, 0.1), 1u);
+  EXPECT_EQ(t.update(1, {}, 0.2), 0u);
+  EXPECT_EQ(t.update(1, {2}, 0.3), 1u);
+}
+
+TEST(PhysicsEncounterTracker, ContactsPresentAtTheStartAreNotOnsets) {
+  EncounterTracker t(true);
+  t.initialize(0, {1});
+  t.initialize(1, {0});
+  EXPECT_EQ(t.update(0, {1}, 0.1), 0u);
+  EXPECT_EQ(t.update(0, {}, 0.2), 0u);
+  EXPECT_TRUE(t.take_records().empty());  // its onset was never observed
+}
+
+TEST(PhysicsEncounterTracker, RecordsPairIntervalsOnceAndRobotEpisodes) {
+  EncounterTracker t(true);
+  // Robots 0 and 1 meet at 1.0; 0 and 2 meet at 1.5; all separate at 2.0.
+  t.update(0, {1}, 1.0);
+  t.update(1, {0}, 1.0);
+  t.update(0, {1, 2}, 1.5);
+  t.update(2, {0}, 1.5);
+  t.update(0, {}, 2.0);
+  t.update(1, {}, 2.0);
+  t.update(2, {}, 2.0);
+  const std::vector<ContactRecord> r = t.take_records();
+  int pairs = 0;
+  int episodes = 0;
+  for (const ContactRecord& c : r) {
+    if (c.other == no_robot) {
+      ++episodes;
+      EXPECT_DOUBLE_EQ(c.end, 2.0);
+      EXPECT_DOUBLE_EQ(c.start, c.robot == 2 ? 1.5 : 1.0);
+    } else {
+      ++pairs;
+      EXPECT_EQ(c.robot, 0u);
+      EXPECT_DOUBLE_EQ(c.start, c.other == 1 ? 1.0 : 1.5);
+    }
+  }
+  EXPECT_EQ(pairs, 2);
+  EXPECT_EQ(episodes, 3);
+  EXPECT_TRUE(t.take_records().empty());
+}
+
+TEST(PhysicsCollectionTask, HoldsTheRoundedMeanNumberOfLocations) {
+  Rng rng(1);
+  const Domain d = Domain::rectangle(10.0, 10.0);
+  const CollectionTask task(d, 0.82, 0.66, 0.11, rng);
+  EXPECT_EQ(task.pickups().size(), 82u);
+  EXPECT_EQ(task.dropoffs().size(), 66u);
+  for (const Vec2& p : task.pickups()) {
+    EXPECT_TRUE(d.contains(p));
+  }
+}
+
+TEST(PhysicsCollectionTask, AUsedPickUpLocationIsReplacedAndDropOffsPersist) {
+  Rng rng(2);
+  const Domain d = Domain::rectangle(10.0, 10.0);
+  CollectionTask task(d, 0.82, 0.66, 0.11, rng);
+  const Vec2 target = task.pickups()[10];
+  EXPECT_TRUE(task.try_pick_up(target + Vec2(0.05, 0.05), rng));  // 7 cm away: within δ
+  EXPECT_EQ(task.pickups().size(), 82u);
+  EXPECT_NE(task.pickups()[10], target);
+  const Vec2 depot = task.dropoffs()[3];
+  EXPECT_TRUE(task.can_drop_off(depot + Vec2(0.1, 0.0)));
+  EXPECT_TRUE(task.can_drop_off(depot + Vec2(0.1, 0.0)));
+  EXPECT_EQ(task.dropoffs()[3], depot);
+}
+
+TEST(PhysicsCollectionTask, NothingHappensFartherThanDeltaFromEveryLocation) {
+  Rng rng(3);
+  const Domain d = Domain::rectangle(10.0, 10.0);
+  CollectionTask task(d, 0.82, 0.66, 0.11, rng);
+  for (int k = 0; k < 2000; ++k) {
+    const Vec2 p = d.sample_uniform(rng);
+    double nearest_pickup = 1e9;
+    for (const Vec2& q : task.pickups()) {
+      nearest_pickup = std::min(nearest_pickup, (q - p).norm());
+    }
+    double nearest_dropoff = 1e9;
+    for (const Vec2& q : task.dropoffs()) {
+      nearest_dropoff = std::min(nearest_dropoff, (q - p).norm());
+    }
+    EXPECT_EQ(task.can_drop_off(p), nearest_dropoff <= 0.11);
+    EXPECT_EQ(task.try_pick_up(p, rng), nearest_pickup <= 0.11);
+  }
+}
+
+TEST(PhysicsInflux, SteadyArrivalsComeEveryInverseRateSeconds) {
+  Rng rng(4);
+  Influx influx(InfluxKind::steady, 0.0603, rng);
+  EXPECT_NEAR(influx.next_arrival(), 1.0 / 0.0603, 1e-12);
+  EXPECT_EQ(influx.arrivals_until(16.0, rng), 0u);
+  EXPECT_EQ(influx.arrivals_until(16.7, rng), 1u);
+  EXPECT_EQ(influx.arrivals_until(100.0, rng), 5u);  // arrivals at 33.2, 49.8, 66.3, 82.9, 99.5
+}
+
+TEST(PhysicsInflux, PoissonArrivalsHaveTheRightMeanCount) {
+  // Poisson(2000) count: sd 44.7; tolerance 5 sd (false failure ≈ 6e-7).
+  Rng rng(5);
+  Influx influx(InfluxKind::poisson, 2.0, rng);
+  EXPECT_NEAR(static_cast<double>(influx.arrivals_until(1000.0, rng)), 2000.0, 224.0);
+}
+
+TEST(PhysicsInflux, ZeroRateMeansNoArrivals) {
+  Rng rng(6);
+  Influx influx(InfluxKind::steady, 0.0, rng);
+  EXPECT_EQ(influx.arrivals_until(1e9, rng), 0u);
+}
+
+TEST(PhysicsRandomWalk, ReflectsOnlyWhenMovingOutwards) {
+  Rng rng(7);
+  WalkState w = start_walk(Vec2(1.0, 1.0), 0.0, 0.1, rng);
+  EXPECT_FALSE(reflect_if_outward(w, Vec2(-1.0, 0.0)));
+  EXPECT_TRUE(reflect_if_outward(w, Vec2(1.0, 0.0)));
+  EXPECT_NEAR((w.direction - Vec2(-1.0, 1.0).normalized()).norm(), 0.0, 1e-15);
+}
+
+TEST(PhysicsRandomWalk, TumblesAtTheScheduledTimes) {
+  Rng rng(8);
+  WalkState w = start_walk(Vec2(1.0, 0.0), 0.0, 0.5, rng);
+  const double first = w.next_tumble;
+  EXPECT_FALSE(apply_tumbles(w, first - 1e-9, 0.5, rng));
+  EXPECT_TRUE(apply_tumbles(w, first, 0.5, rng));
+  EXPECT_GT(w.next_tumble, first);
+}
+
+TEST(PhysicsRandomWalk, AStalledWalkerReorientsAfterTheUnblockTime) {
+  Rng rng(9);
+  WalkState w = start_walk(Vec2(1.0, 0.0), 0.0, 0.0, rng);
+  EXPECT_FALSE(unblock_if_stalled(w, Vec2(0.01, 0.0), 0.1, 1.0, 2.0, rng));  // stall begins
+  EXPECT_FALSE(unblock_if_stalled(w, Vec2(0.01, 0.0), 0.1, 2.9, 2.0, rng));
+  EXPECT_TRUE(unblock_if_stalled(w, Vec2(0.01, 0.0), 0.1, 3.0, 2.0, rng));
+  EXPECT_DOUBLE_EQ(w.blocked_since, -1.0);
+  w = start_walk(Vec2(1.0, 0.0), 0.0, 0.0, rng);
+  EXPECT_FALSE(unblock_if_stalled(w, Vec2(0.01, 0.0), 0.1, 1.0, 2.0, rng));
+  EXPECT_FALSE(unblock_if_stalled(w, Vec2(0.08, 0.0), 0.1, 2.0, 2.0, rng));  // progress resets
+  EXPECT_FALSE(unblock_if_stalled(w, Vec2(0.01, 0.0), 0.1, 3.5, 2.0, rng));
+}
+
+}  // namespace
+}  // namespace retreat::physics

@@ -1,0 +1,117 @@
+// WorldParams::validate(): every bad field is named with its key and value.
+
+#include <gtest/gtest.h>
+
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "retreat/physics/params.hpp"
+#include "retreat/physics/world.hpp"
+
+namespace retreat::physics {
+namespace {
+
+struct BadCase {
+  std::string prefix;  // the message must start with "<key> = <value>:"
+  std::function<void(WorldParams&)> spoil;
+};
+
+std::string message_of(const WorldParams& p) {
+  try {
+    p.validate();
+  } catch (const std::invalid_argument& error) {
+    return error.what();
+  }
+  return "(no exception)";
+}
+
+TEST(PhysicsParams, DefaultsAreValidForBothEncounterModels) {
+  WorldParams p;
+  EXPECT_NO_THROW(p.validate());
+  p.encounter_model = "kinetic";
+  EXPECT_NO_THROW(p.validate());
+}
+
+TEST(PhysicsParams, EachInvalidFieldIsRejectedWithItsKeyAndValue) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const std::vector<BadCase> cases = {
+      {"arena.encounter_model = 'ballistic':", [](WorldParams& p) { p.encounter_model = "ballistic"; }},
+      {"arena.shape = 'hexagon':", [](WorldParams& p) { p.shape = "hexagon"; }},
+      {"arena.queue = 'lifo':", [](WorldParams& p) { p.queue = "lifo"; }},
+      {"arena.influx = 'bursty':", [](WorldParams& p) { p.influx = "bursty"; }},
+      {"arena.robot_radius = 0:", [](WorldParams& p) { p.robot_radius = 0; }},
+      {"arena.robot_radius = nan:", [nan](WorldParams& p) { p.robot_radius = nan; }},
+      {"model.delta = -0.1:", [](WorldParams& p) { p.delta = -0.1; }},
+      {"model.delta = 0.05:", [](WorldParams& p) { p.delta = 0.05; }},  // < robot radius
+      {"model.delta = 0.06:", [](WorldParams& p) { p.delta = 0.06; }},  // 2δ < D_s
+      {"arena.safety_distance = 0.1:", [](WorldParams& p) { p.safety_distance = 0.1; }},  // < 2r
+      {"model.v = 0:", [](WorldParams& p) { p.v = 0; }},
+      {"model.v = 0.3:", [](WorldParams& p) { p.v = 0.3; }},  // > max_speed
+      {"arena.max_speed = -1:", [](WorldParams& p) { p.max_speed = -1; }},
+      {"arena.projection_distance = 0:", [](WorldParams& p) { p.projection_distance = 0; }},
+      {"arena.projection_distance = 0.5:", [](WorldParams& p) { p.projection_distance = 0.5; }},
+      {"arena.max_turn_rate = 2:", [](WorldParams& p) { p.max_turn_rate = 2; }},  // < v/l
+      {"model.lambda_p = -1:", [](WorldParams& p) { p.lambda_p = -1; }},
+      {"model.lambda_d = inf:",
+       [](WorldParams& p) { p.lambda_d = std::numeric_limits<double>::infinity(); }},
+      {"model.rho = 0:", [](WorldParams& p) { p.encounter_model = "kinetic"; p.rho = 0; }},
+      {"arena.tick_dt = 0:", [](WorldParams& p) { p.tick_dt = 0; }},
+      {"arena.physics_dt = -0.01:", [](WorldParams& p) { p.physics_dt = -0.01; }},
+      {"arena.physics_dt = 0.04:", [](WorldParams& p) { p.physics_dt = 0.04; }},  // > tick_dt
+      {"arena.physics_dt = 0.007:", [](WorldParams& p) { p.physics_dt = 0.007; }},  // no divisor
+      {"arena.physics_dt = 0.2:",
+       [](WorldParams& p) { p.physics_dt = 0.2; p.tick_dt = 0.2; }},  // 0.2·0.2 > δ/4
+      {"arena.gamma = 0:", [](WorldParams& p) { p.gamma = 0; }},
+      {"arena.boundary_gain = 200:", [](WorldParams& p) { p.boundary_gain = 200; }},  // > 1/dt
+      {"arena.tumble_rate = -0.1:", [](WorldParams& p) { p.tumble_rate = -0.1; }},
+      {"arena.unblock_time = 0:", [](WorldParams& p) { p.unblock_time = 0; }},
+      {"arena.lambda_in = -0.02:", [](WorldParams& p) { p.lambda_in = -0.02; }},
+      {"arena.semi_axis_x = 0:", [](WorldParams& p) { p.semi_axis_x = 0; }},
+      {"arena.semi_axis_y = 0.1:", [](WorldParams& p) { p.semi_axis_y = 0.1; }},  // too small
+      {"arena.width = -3:", [](WorldParams& p) { p.shape = "rectangle"; p.width = -3; }},
+      {"arena.height = 0.2:", [](WorldParams& p) { p.shape = "rectangle"; p.height = 0.2; }},
+      {"arena.robots_inside = 500:", [](WorldParams& p) { p.robots_inside = 500; }},
+      {"arena.robots_waiting = 400:", [](WorldParams& p) { p.robots_waiting = 400; }},
+      {"arena.robots_waiting = 0:",
+       [](WorldParams& p) { p.queue = "endless"; p.robots_waiting = 0; }},
+      {"arena.robots_inside = 0:",
+       [](WorldParams& p) { p.robots_inside = 0; p.robots_waiting = 0; }},
+  };
+  for (const BadCase& c : cases) {
+    WorldParams p;
+    c.spoil(p);
+    const std::string message = message_of(p);
+    EXPECT_EQ(message.rfind(c.prefix, 0), 0u) << "expected '" << c.prefix << "...', got '"
+                                              << message << "'";
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  }
+}
+
+TEST(PhysicsParams, MessagesStateTheAllowedRange) {
+  WorldParams p;
+  p.physics_dt = 0.007;
+  EXPECT_NE(message_of(p).find("must divide arena.tick_dt (0.03 s)"), std::string::npos)
+      << message_of(p);
+  p = WorldParams{};
+  p.robots_inside = 500;
+  EXPECT_NE(message_of(p).find("must be <= " + std::to_string(max_robots(p))), std::string::npos)
+      << message_of(p);
+}
+
+TEST(PhysicsParams, AnEndlessQueueDoesNotCountWaitingRobotsAgainstTheDomain) {
+  WorldParams p;
+  p.queue = "endless";
+  p.robots_waiting = 400;
+  EXPECT_NO_THROW(p.validate());
+}
+
+TEST(PhysicsParams, MakeWorldValidatesFirst) {
+  WorldParams p;
+  p.tick_dt = -1;
+  EXPECT_THROW(make_world(p), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace retreat::physics

@@ -1,0 +1,105 @@
+// Swarm output T(λ)λ of the physical world against the CTMC (MODEL.md §3, §6).
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <string>
+
+#include "paper_setups.hpp"
+#include "retreat/physics/world.hpp"
+
+namespace retreat::physics {
+namespace {
+
+constexpr std::uint32_t robots = 200;
+constexpr double warm_up = 250.0;    // s: two delivery cycles (1/Ω_p + 1/Ω_d ≈ 124 s)
+constexpr double duration = 2500.0;  // s
+constexpr double lambda_fit = 0.99;  // where ρ is fitted, as in the paper
+
+struct Point {
+  double output = 0.0;      // deliveries per second per m² (T(λ)·λ measured)
+  double deliveries = 0.0;
+  double rho_robot = 0.0;   // 1 / mean robot-level contact duration
+  double rho_pair = 0.0;
+};
+
+/// One run per density, cached within the process. v = 0.1 exactly as in the paper; the world is
+/// encounter_validation() with time stretched by 10, so ρ fitted here is the v = 0.1 value.
+const Point& simulate(double lambda) {
+  static std::map<double, Point> cache;
+  const auto found = cache.find(lambda);
+  if (found != cache.end()) {
+    return found->second;
+  }
+  WorldParams p = testing::throughput_curve(robots, lambda);
+  p.record_encounters = lambda == lambda_fit;
+  auto world = make_world(p);
+  for (long k = 0; k < std::lround(warm_up / p.tick_dt); ++k) {
+    world->step_tick();
+  }
+  world->take_contact_records();
+  const std::uint64_t before = world->telemetry().deliveries;
+  double pair_sum = 0.0;
+  double pair_n = 0.0;
+  double robot_sum = 0.0;
+  double robot_n = 0.0;
+  for (long k = 0; k < std::lround(duration / p.tick_dt); ++k) {
+    world->step_tick();
+    for (const ContactRecord& c : world->take_contact_records()) {
+      if (c.other == no_robot) {
+        robot_sum += c.end - c.start;
+        robot_n += 1.0;
+      } else {
+        pair_sum += c.end - c.start;
+        pair_n += 1.0;
+      }
+    }
+  }
+  Point point;
+  point.deliveries = static_cast<double>(world->telemetry().deliveries - before);
+  point.output = point.deliveries / (duration * p.width * p.height);
+  point.rho_robot = robot_n / robot_sum;
+  point.rho_pair = pair_n / pair_sum;
+  return cache[lambda] = point;
+}
+
+/// T(λ)λ = 2δv·(λ_pλ_d/(λ_p+λ_d))/(1 + cλ/ρ)·λ [deliveries/(s·m²)].
+double ctmc_output(const WorldParams& p, double lambda, double rho) {
+  const double harmonic = p.lambda_p * p.lambda_d / (p.lambda_p + p.lambda_d);
+  const double c = testing::swept_area_rate(p);
+  return 2.0 * p.delta * p.v * harmonic / (1.0 + c * lambda / rho) * lambda;
+}
+
+class PhysicsThroughput : public ::testing::TestWithParam<double> {};
+
+// Tolerance: 20 % (the task's specification). Statistical noise is far smaller: ≥ 1500
+// deliveries per point, delivery counts of 200 independent-ish robots with a per-robot
+// coefficient of variation near 1 → relative sd ≤ 3 %, so a 20 % miss is a model or physics
+// discrepancy, not chance (P(|Z| > 6.7) < 1e-10). ρ is the robot-level fit at λ = 0.99
+// (the CTMC's fc/lc sojourn); the pair-level fit is recorded beside it.
+TEST_P(PhysicsThroughput, SimulatedOutputIsWithinTwentyPercentOfTheCtmcCurve) {
+  const double lambda = GetParam();
+  const WorldParams p = testing::throughput_curve(robots, lambda);
+  const Point& fit = simulate(lambda_fit);
+  const Point& point = simulate(lambda);
+  const double predicted = ctmc_output(p, lambda, fit.rho_robot);
+  const double ratio = point.output / predicted;
+  RecordProperty("lambda", std::to_string(lambda));
+  RecordProperty("simulated_output", std::to_string(point.output));
+  RecordProperty("ctmc_output", std::to_string(predicted));
+  RecordProperty("ratio", std::to_string(ratio));
+  RecordProperty("ctmc_output_with_pair_rho", std::to_string(ctmc_output(p, lambda, fit.rho_pair)));
+  RecordProperty("rho_robot_fit", std::to_string(fit.rho_robot));
+  RecordProperty("rho_pair_fit", std::to_string(fit.rho_pair));
+  RecordProperty("deliveries", std::to_string(point.deliveries));
+  ASSERT_GT(point.deliveries, 1500.0);
+  EXPECT_NEAR(ratio, 1.0, 0.20) << "λ = " << lambda << ": simulated " << point.output
+                                << ", CTMC " << predicted << " (ρ = " << fit.rho_robot << ")";
+}
+
+INSTANTIATE_TEST_SUITE_P(PaperDensities, PhysicsThroughput,
+                         ::testing::Values(0.25, 0.5, 0.99, 2.0, 4.0));
+
+}  // namespace
+}  // namespace retreat::physics
