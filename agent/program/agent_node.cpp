@@ -46,9 +46,18 @@ void AgentNode::spin_once(std::chrono::nanoseconds timeout) {
 void AgentNode::handle(const wire::ProximityFrame& frame) {
   ++counters_.frames_received;
   const auto result = agent_.on_frame(to_observation(frame));
+  if (result.verdict == FrameVerdict::duplicate_tick && last_decision_ &&
+      last_decision_->tick == frame.tick) {
+    // A lockstep re-send: the arena has not seen our answer (it may have been written before the
+    // arena's reader matched our writer). Answer again with the recorded decision; the
+    // algorithm does not see the frame twice (it was counted as a duplicate).
+    decisions_.write(*last_decision_);
+    return;
+  }
   if (result.verdict != FrameVerdict::accepted) return;
   // Every accepted frame is answered with this tick's decision (lockstep waits for it).
   const wire::Decision decision{robot_id_, frame.tick, frame.time, result.retreating};
+  last_decision_ = decision;
   if (decisions_.write(decision) == transport::WriteResult::ok) {
     ++counters_.decisions_sent;
   } else {

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 
 #include "retreat/agent/retreat_agent.hpp"
 #include "retreat/scenario/scenario.hpp"
@@ -51,6 +52,7 @@ class AgentNode {
   transport::Writer<wire::Decision> decisions_;
   transport::Writer<wire::AgentStatus> statuses_;
   NodeCounters counters_;
+  std::optional<wire::Decision> last_decision_;
   std::int64_t last_status_slot_ = -1;
   bool last_retreating_ = false;
   bool departed_ = false;

@@ -167,12 +167,20 @@ void ArenaNode::collect_available() {
 
 bool ArenaNode::collect_lockstep(const KeepGoing& keep_going) {
   const auto timeout = std::chrono::duration<double>(scenario_.run.agent_timeout);
-  const auto deadline = std::chrono::steady_clock::now() +
-                        std::chrono::duration_cast<std::chrono::steady_clock::duration>(timeout);
+  const auto start = std::chrono::steady_clock::now();
+  const auto deadline = start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(timeout);
+  auto next_resend = start + resend_interval;
   for (;;) {
     collect_available();
     if (all_answered()) return true;
     if (!keep_going()) return false;
+    if (std::chrono::steady_clock::now() >= next_resend) {
+      // A frame (or its answer) written while the two sides were still discovering each other
+      // may never arrive: volatile readers do not get samples written before they matched.
+      // Re-send the frame; the agent answers a repeated tick with the decision it recorded.
+      resend_unanswered();
+      next_resend += resend_interval;
+    }
     if (std::chrono::steady_clock::now() >= deadline) {
       for (auto& [id, r] : robots_) {
         if (r->expecting && !r->answered && !r->record.lost) {
@@ -183,6 +191,15 @@ bool ArenaNode::collect_lockstep(const KeepGoing& keep_going) {
       return true;
     }
     transport_.wait(5ms);
+  }
+}
+
+void ArenaNode::resend_unanswered() {
+  for (const auto& f : world_->frames()) {
+    auto& r = robot(f.id);
+    if (!r.expecting || r.answered || r.record.lost) continue;
+    r.frames.write({f.id, f.tick, f.time, r.phase, f.in_contact, f.new_onsets});
+    ++counters_.resent_frames;
   }
 }
 
@@ -227,6 +244,7 @@ RunSummary ArenaNode::finish(double wall_seconds) {
   s.agents_started = agents_started_;
   s.agents_lost = agents_lost();
   s.decisions_dropped = counters_.stale + counters_.future + counters_.unknown_robot + counters_.invalid;
+  s.frames_resent = counters_.resent_frames;
   s.trajectory_sha256 = hash_.finish();
   s.dds = std::string(transport_.vendor());
   if (recorder_ != nullptr) {

@@ -26,7 +26,11 @@ struct DecisionCounters {
   std::uint64_t future = 0;         ///< answered a tick not yet published
   std::uint64_t unknown_robot = 0;  ///< robot the world does not have
   std::uint64_t invalid = 0;        ///< dropped by the transport's validation
+  std::uint64_t resent_frames = 0;  ///< lockstep frames sent again because no answer came
 };
+
+/// Lockstep: how long the arena waits for an answer before sending a frame again.
+inline constexpr std::chrono::milliseconds resend_interval{200};
 
 class ArenaNode {
  public:
@@ -73,6 +77,7 @@ class ArenaNode {
   struct Robot;
   Robot& robot(std::uint32_t id);
   void take_decisions(Robot& r);
+  void resend_unanswered();
   void publish_observations();
 
   scenario::Scenario scenario_;

@@ -132,6 +132,7 @@ void RunRecorder::finish(const physics::World& world, const std::vector<AgentRec
   j["robots"]["waiting"] = last_.waiting;
   j["deliveries"] = last_.deliveries;
   j["decisions_dropped"] = summary.decisions_dropped;
+  j["frames_resent"] = summary.frames_resent;
   j["commands"]["accepted"] = last_.commands.accepted;
   j["commands"]["rejected_not_inside"] = last_.commands.rejected_not_inside;
   j["commands"]["rejected_unknown"] = last_.commands.rejected_unknown;

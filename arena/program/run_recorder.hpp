@@ -48,6 +48,7 @@ struct RunSummary {
   std::uint32_t agents_started = 0;
   std::uint32_t agents_lost = 0;
   std::uint64_t decisions_dropped = 0;  ///< unknown robot, past or future tick, invalid
+  std::uint64_t frames_resent = 0;      ///< lockstep frames re-sent for want of an answer
   std::string trajectory_sha256;
   std::string dds;
 };

@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cstdio>
 #include <iostream>
+#include <thread>
 
 #include "retreat/testing/samples.hpp"
 #include "retreat/transport/factory.hpp"
@@ -105,6 +106,8 @@ int run_reader(transport::Transport& t, const Topics& topics, int count) {
   ok = check(a, count, [](int i) { return testing::telemetry_sample(0, i); }, "ArenaTelemetry") && ok;
   ok = check(p, count, [](int i) { return testing::poses_sample(0, i); }, "Poses") && ok;
   std::printf("reader: %s\n", ok ? "all samples identical and in order" : "MISMATCH");
+  // Stay a moment so that the writer receives our final acknowledgements before we leave.
+  std::this_thread::sleep_for(1s);
   return ok ? 0 : 1;
 }
 

@@ -7,6 +7,7 @@
 
 #include <fstream>
 #include <map>
+#include <set>
 
 #include "retreat/agent/controller_registry.hpp"
 #include "retreat/agent/retreat_agent.hpp"
@@ -65,10 +66,17 @@ struct ScriptedArena {
 
   bool matched() { return frames.matched_count() > 0 && decisions.matched_count() > 0; }
 
-  /// Sends a frame and waits for the decision answering its tick.
+  /// Sends a frame and waits for the decision answering its tick. Like the arena in lockstep,
+  /// it sends the frame again when no answer came within 300 ms (a sample written while the
+  /// two sides are still discovering each other can be missed); `resends` counts those.
   std::optional<wire::Decision> exchange(const wire::ProximityFrame& f) {
     frames.write(f);
-    return await_decision(f.tick, 10s);
+    for (int attempt = 0; attempt < 30; ++attempt) {
+      if (auto d = await_decision(f.tick, 300ms)) return d;
+      frames.write(f);
+      ++resends;
+    }
+    return std::nullopt;
   }
 
   std::optional<wire::Decision> await_decision(std::int64_t tick, std::chrono::milliseconds timeout) {
@@ -90,6 +98,7 @@ struct ScriptedArena {
   transport::Reader<wire::AgentStatus> statuses;
   std::vector<wire::Decision> received;
   std::vector<wire::AgentStatus> status_log;
+  int resends = 0;
 };
 
 wire::ProximityFrame frame(std::uint32_t robot, std::int64_t tick, std::uint32_t onsets,
@@ -172,18 +181,23 @@ TEST_P(AgentProgram, DropsAndCountsFramesForAnotherRobotBackwardsOrDuplicatedNev
   arena.frames.write(nan);                      // invalid time
   const auto next = arena.exchange(frame(robot, 9, 0));
   ASSERT_TRUE(next.has_value());
-  // Exactly one decision per accepted tick: 0..4 and 9, none for the dropped frames.
-  std::map<std::int64_t, int> per_tick;
-  for (const auto& d : arena.received) ++per_tick[d.tick];
-  EXPECT_EQ(per_tick, (std::map<std::int64_t, int>{{0, 1}, {1, 1}, {2, 1}, {3, 1}, {4, 1}, {9, 1}}));
-  // The next status reports the four dropped frames.
+  // Decisions only for the accepted ticks 0..4 and 9, none for the dropped frames.
+  std::set<std::int64_t> answered;
+  for (const auto& d : arena.received) answered.insert(d.tick);
+  EXPECT_EQ(answered, (std::set<std::int64_t>{0, 1, 2, 3, 4, 9}));
+  // The next status reports the four dropped frames (plus any re-sends, which the agent sees as
+  // duplicated ticks and answers again without acting on them).
   ASSERT_TRUE(arena.exchange(frame(robot, 12, 0)).has_value());
+  const auto expected_drops = static_cast<std::uint64_t>(4 + arena.resends);
   ASSERT_TRUE(eventually([&] {
     arena.await_decision(-1, 20ms);
-    return !arena.status_log.empty() && arena.status_log.back().frames_dropped == 4;
-  }, 5s)) << "last status reports " << (arena.status_log.empty() ? 0 : arena.status_log.back().frames_dropped);
+    return !arena.status_log.empty() && arena.status_log.back().frames_dropped == expected_drops;
+  }, 5s)) << "last status reports " << (arena.status_log.empty() ? 0 : arena.status_log.back().frames_dropped)
+          << ", expected " << expected_drops;
   EXPECT_EQ(agent_process.stop(), 0);
 }
+
+void PrintTo(const Vendor& v, std::ostream* os) { *os << v.name; }
 
 INSTANTIATE_TEST_SUITE_P(Vendors, AgentProgram,
                          ::testing::Values(Vendor{"fastdds", 80}, Vendor{"cyclonedds", 84}),

@@ -3,7 +3,8 @@
 //
 //   --role agent --robot i : like retreat-agent: user data "retreat:agent:robot=<i>", a reader on
 //                            <prefix>/robot_<i>/proximity and a writer on <prefix>/robot_<i>/decision;
-//                            answers every frame with a decision for the frame's tick.
+//                            answers every frame with a decision for the frame's tick. On exit
+//                            prints participants=<number of participants it discovered>.
 //   --role hub --agents N  : like retreat-arena: user data "retreat:arena", for robots
 //                            first..first+N-1 a proximity writer and a decision reader. Waits until
 //                            every one of them is matched, then sends frames (re-sent every second
@@ -70,6 +71,10 @@ int run_agent(const Settings& s, Clock::time_point start) {
       decisions.write({s.robot, f.tick, f.time, false});
     }
   }
+  // What this agent discovered (itself included): in a star, only itself, the hub and the
+  // hub's other clients that share a topic with it.
+  std::printf("participants=%zu\n", t->participants().size());
+  std::fflush(stdout);
   return 0;
 }
 

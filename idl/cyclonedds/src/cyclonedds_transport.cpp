@@ -18,11 +18,19 @@ namespace {
 
 /// The built-in configuration: loopback only. `lo` has no MULTICAST flag on these machines, so
 /// multicast is forced on for it; without it Cyclone falls back to unicast discovery with
-/// participant indices and runs out of them at about ten processes (ARCHITECTURE.md).
+/// participant indices and runs out of them at about ten processes (ARCHITECTURE.md). Each
+/// participant also takes a participant index (well-known unicast ports 7410 + 250·domain +
+/// 2·index, up to the 120 a domain's port range holds) and announces itself to those ports on
+/// 127.0.0.1: Fast DDS participants, which do not use multicast here, listen and announce on
+/// exactly those ports, so the two vendors find each other at once.
 constexpr const char* loopback_config =
     "<CycloneDDS><Domain Id=\"any\"><General><Interfaces>"
     "<NetworkInterface name=\"lo\" multicast=\"true\"/>"
-    "</Interfaces></General></Domain></CycloneDDS>";
+    "</Interfaces></General>"
+    "<Discovery><ParticipantIndex>auto</ParticipantIndex>"
+    "<MaxAutoParticipantIndex>119</MaxAutoParticipantIndex>"
+    "<Peers><Peer address=\"127.0.0.1\"/></Peers></Discovery>"
+    "</Domain></CycloneDDS>";
 
 std::string hex(const dds_guid_t& guid) {
   unsigned char bytes[16];

@@ -249,7 +249,7 @@ class FastParticipant : public std::enable_shared_from_this<FastParticipant> {
         throw std::invalid_argument("dds.profile = '" + options.profile +
                                     "': no such file (a Fast DDS XML profile file)");
       }
-      if (factory->load_XML_profiles_file(options.profile) != ReturnCode_t::RETCODE_OK ||
+      if (!load_profile_file_once(factory, options.profile) ||
           factory->get_participant_qos_from_profile(profile_name, qos) != ReturnCode_t::RETCODE_OK) {
         throw std::invalid_argument("dds.profile = '" + options.profile +
                                     "': not a Fast DDS XML profile file with a participant "
@@ -310,6 +310,24 @@ class FastParticipant : public std::enable_shared_from_this<FastParticipant> {
     topics_.erase(it);
   }
 
+  /// Fast DDS keeps the profiles of every loaded file in one process-wide table and, when a
+  /// second file defines "retreat_participant" again, logs an error and silently keeps the first
+  /// one. So a process uses one profile file: loading it again is a no-op, another file is refused.
+  static bool load_profile_file_once(dds::DomainParticipantFactory* factory, const std::string& path) {
+    static std::mutex mutex;
+    static std::string loaded;
+    std::lock_guard lock(mutex);
+    const auto canonical = std::filesystem::weakly_canonical(path).string();
+    if (loaded.empty()) {
+      if (factory->load_XML_profiles_file(path) != ReturnCode_t::RETCODE_OK) return false;
+      loaded = canonical;
+    } else if (loaded != canonical) {
+      throw std::invalid_argument("dds.profile = '" + path + "': this process already uses the Fast DDS "
+                                  "profile file '" + loaded + "' (one profile file per process)");
+    }
+    return true;
+  }
+
   dds::DomainParticipant* participant() const { return participant_; }
   dds::Publisher* publisher() const { return publisher_; }
   dds::Subscriber* subscriber() const { return subscriber_; }
@@ -317,7 +335,7 @@ class FastParticipant : public std::enable_shared_from_this<FastParticipant> {
 
  private:
   /// Loopback only: UDPv4 on 127.0.0.1, no shared memory, no multicast (`lo` has none here).
-  /// Discovery announcements go unicast to the well-known ports of participant ids 0..63 on
+  /// Discovery announcements go unicast to the well-known ports of participant ids 0..119 on
   /// 127.0.0.1. Fast DDS hands out participant ids per process in increasing order and never
   /// reuses one, so the range must cover every participant a process (or host) creates. Larger
   /// swarms use the discovery-server profile in deploy/dds/ (ARCHITECTURE.md, DDS facts).
@@ -326,7 +344,7 @@ class FastParticipant : public std::enable_shared_from_this<FastParticipant> {
     qos.transport().use_builtin_transports = false;
     auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
     udp->interfaceWhiteList.emplace_back("127.0.0.1");
-    udp->maxInitialPeersRange = 64;
+    udp->maxInitialPeersRange = 120;  // ids 0..119: all a domain's port range holds
     qos.transport().user_transports.push_back(udp);
     rtps::Locator_t unicast;
     rtps::IPLocator::setIPv4(unicast, "127.0.0.1");

@@ -1,0 +1,113 @@
+// retreat-launch under faults: agents killed mid-run (the run completes, they are counted lost,
+// the launcher exits 0), the arena killed (the launcher stops everything and exits 1), the
+// launcher itself stopped by SIGTERM (every child stopped, the summary still written). In every
+// case no child is left behind: each PID of processes.json is gone.
+
+#include <gtest/gtest.h>
+
+#include <thread>
+
+#include "launch_support.hpp"
+
+namespace retreat::launch_test {
+namespace {
+
+// Domain ids of this file: 164, 165, 167.
+constexpr int domain_kill_agents = 164;
+constexpr int domain_kill_arena = 165;
+constexpr int domain_stop_launcher = 167;
+
+/// Waits for `<out>/processes.json` (written once every child has started).
+json wait_for_processes(const std::string& out) {
+  json j;
+  testing::eventually([&] {
+    j = read_json(out + "/processes.json");
+    return !j.empty();
+  }, 30s);
+  return j;
+}
+
+/// Waits until the arena's telemetry (read on our own participant) reaches simulated time `t`.
+bool wait_for_simulated_time(const std::string& vendor, int domain, double t) {
+  auto participant = transport::make_transport(vendor, {domain, "launch-test-watch", "", ""});
+  auto reader = participant->create_reader<wire::ArenaTelemetry>(
+      {wire::arena_telemetry_topic("retreat"), transport::QosIntent::state()});
+  return testing::eventually([&] {
+    participant->wait(50ms);
+    for (const auto& m : reader.take()) {
+      if (m.time >= t) return true;
+    }
+    return false;
+  }, 60s);
+}
+
+pid_t pid_of_agent(const json& processes, int robot) {
+  for (const auto& a : processes["agents"]) {
+    if (a["robot"] == robot) return a["pid"].get<pid_t>();
+  }
+  return -1;
+}
+
+TEST(LaunchFaults, TwoAgentsKilledMidRunAreCountedLostAndTheRunCompletes) {
+  const std::string vendor = built("fastdds") ? "fastdds" : "cyclonedds";
+  const auto dir = fresh_dir("kill-agents");
+  // 200 simulated seconds (6,667 ticks); an agent silent for 1 wall second is lost.
+  auto l = start_launch(dir, {robotarium, "--dds", vendor, "--domain", std::to_string(domain_kill_agents),
+                              "--set", "run.duration=200", "--set", "run.agent_timeout=1"});
+  const auto processes = wait_for_processes(l.out);
+  ASSERT_EQ(processes["agents"].size(), 12u) << log_of(dir);
+  ASSERT_TRUE(wait_for_simulated_time(vendor, domain_kill_agents, 10.0)) << log_of(dir);
+  // Robots 10 and 11 wait in the queue until t = 50 s and 66 s: still there, still answering.
+  for (int robot : {10, 11}) {
+    const pid_t pid = pid_of_agent(processes, robot);
+    ASSERT_GT(pid, 0);
+    ASSERT_EQ(::kill(pid, SIGKILL), 0);
+  }
+  const auto code = l.process.wait_for(90s);
+  ASSERT_TRUE(code.has_value()) << "the launcher did not finish; " << log_of(dir);
+  EXPECT_EQ(*code, 0) << log_of(dir);
+  const auto j = read_json(l.out + "/summary.json");
+  ASSERT_FALSE(j.empty()) << log_of(dir);
+  EXPECT_EQ(j["agents"]["started"], 12);
+  EXPECT_EQ(j["agents"]["lost"], 2);
+  EXPECT_EQ(j["ticks"], 6667);
+  EXPECT_TRUE(alive(child_pids(processes)).empty());
+}
+
+TEST(LaunchFaults, AKilledArenaStopsEveryChildAndTheLauncherFails) {
+  const std::string vendor = built("fastdds") ? "fastdds" : "cyclonedds";
+  const auto dir = fresh_dir("kill-arena");
+  auto l = start_launch(dir, {robotarium, "--dds", vendor, "--domain", std::to_string(domain_kill_arena)});
+  const auto processes = wait_for_processes(l.out);
+  ASSERT_FALSE(processes.empty()) << log_of(dir);
+  ASSERT_TRUE(wait_for_simulated_time(vendor, domain_kill_arena, 5.0)) << log_of(dir);
+  ASSERT_EQ(::kill(processes["arena"]["pid"].get<pid_t>(), SIGKILL), 0);
+  const auto code = l.process.wait_for(30s);
+  ASSERT_TRUE(code.has_value()) << "the launcher did not finish; " << log_of(dir);
+  EXPECT_EQ(*code, 1) << log_of(dir);
+  EXPECT_TRUE(alive(child_pids(processes)).empty());
+  EXPECT_FALSE(std::filesystem::exists(l.out + "/summary.json"));
+}
+
+TEST(LaunchFaults, SigtermStopsEveryChildAndKeepsTheSummary) {
+  const std::string vendor = built("cyclonedds") ? "cyclonedds" : "fastdds";
+  const auto dir = fresh_dir("stop-launcher");
+  auto l = start_launch(dir, {robotarium, "--dds", vendor, "--domain", std::to_string(domain_stop_launcher)});
+  const auto processes = wait_for_processes(l.out);
+  ASSERT_FALSE(processes.empty()) << log_of(dir);
+  ASSERT_TRUE(wait_for_simulated_time(vendor, domain_stop_launcher, 5.0)) << log_of(dir);
+  l.process.signal(SIGTERM);
+  const auto code = l.process.wait_for(30s);
+  ASSERT_TRUE(code.has_value()) << "the launcher did not finish; " << log_of(dir);
+  EXPECT_EQ(*code, 128 + SIGTERM) << log_of(dir);
+  EXPECT_TRUE(alive(child_pids(processes)).empty());
+  // The arena wrote the summary of the part that ran, and the launcher completed it.
+  const auto j = read_json(l.out + "/summary.json");
+  ASSERT_FALSE(j.empty()) << log_of(dir);
+  EXPECT_LT(j["ticks"].get<int>(), 40000);
+  EXPECT_EQ(j["agents"]["started"], 12);
+  EXPECT_EQ(j["launch"]["mode"], "processes");
+}
+
+}  // namespace
+}  // namespace retreat::launch_test

@@ -1,0 +1,57 @@
+// retreat-launch refuses bad input before starting anything: exit code 2, and no run directory
+// (the launcher creates it only after every check passed, before the first child starts).
+
+#include <gtest/gtest.h>
+
+#include <sys/file.h>
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include "launch_support.hpp"
+
+namespace retreat::launch_test {
+namespace {
+
+// Domain ids of this file: 169 (held by the test itself).
+constexpr int domain_held = 169;
+
+void expect_refused(const std::string& name, const std::vector<std::string>& args) {
+  const auto dir = fresh_dir("input-" + name);
+  const auto started = std::chrono::steady_clock::now();
+  EXPECT_EQ(run_launch(dir, args, 20s), 2) << name << ": " << log_of(dir);
+  EXPECT_FALSE(std::filesystem::exists(dir + "/run")) << name << ": something was started";
+  // Refused at once: nothing waited for a swarm.
+  EXPECT_LT(std::chrono::steady_clock::now() - started, 10s) << name;
+}
+
+TEST(LaunchInput, BadInputIsRefusedWithExitCodeTwoAndNothingStarted) {
+  expect_refused("missing-scenario", {scenarios + "/no-such-scenario.yaml", "--domain", "229"});
+  expect_refused("seeds-backwards", {robotarium, "--seeds", "5:2", "--domain", "229"});
+  expect_refused("seeds-not-numbers", {robotarium, "--seeds", "a:b", "--domain", "229"});
+  expect_refused("unknown-dds", {robotarium, "--dds", "zenoh", "--domain", "229"});
+  expect_refused("unknown-key", {robotarium, "--set", "arena.colour=blue", "--domain", "229"});
+  expect_refused("unknown-section", {robotarium, "--set", "physics.dt=1", "--domain", "229"});
+  expect_refused("bad-value", {robotarium, "--set", "run.duration=-1", "--domain", "229"});
+  expect_refused("domain-out-of-range", {robotarium, "--domain", "300"});
+  expect_refused("seed-and-seeds", {robotarium, "--seed", "1", "--seeds", "1:2", "--domain", "229"});
+  expect_refused("dds-in-process", {robotarium, "--in-process", "--dds", "fastdds"});
+  expect_refused("realtime-in-process", {robotarium, "--in-process", "--set", "run.mode=realtime"});
+  expect_refused("unknown-option", {robotarium, "--frobnicate"});
+  expect_refused("missing-programs", {robotarium, "--bin-dir", "/nonexistent", "--domain", "229"});
+  expect_refused("endless-lockstep-processes",
+                 {scenarios + "/steady-influx.yaml", "--domain", "229", "--set", "run.mode=lockstep"});
+}
+
+TEST(LaunchInput, ADomainInUseByAnotherLaunchIsRefused) {
+  // Hold the domain's lock as another launcher would.
+  const auto path = "/tmp/retreat-domain-" + std::to_string(domain_held) + ".lock";
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CREAT | O_CLOEXEC, 0666);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(::flock(fd, LOCK_EX | LOCK_NB), 0) << "another process holds " << path;
+  expect_refused("domain-in-use", {robotarium, "--domain", std::to_string(domain_held)});
+  ::close(fd);
+}
+
+}  // namespace
+}  // namespace retreat::launch_test

@@ -1,0 +1,155 @@
+// retreat-launch runs that complete: robotarium-2019 with 12 agent processes over Fast DDS,
+// Cyclone DDS and mixed gives one trajectory, the same as the in-process run with the same
+// seed; a different seed gives a different one; --seeds aggregates; real time passes through.
+
+#include <gtest/gtest.h>
+
+#include "launch_support.hpp"
+
+namespace retreat::launch_test {
+namespace {
+
+// Domain ids of this file: 160..163, 168.
+constexpr int domain_fastdds = 160;
+constexpr int domain_cyclonedds = 161;
+constexpr int domain_mixed = 162;
+constexpr int domain_kinetic = 163;
+constexpr int domain_realtime = 168;
+
+std::vector<std::string> args(std::vector<std::string> head, const std::vector<std::string>& tail) {
+  head.insert(head.end(), tail.begin(), tail.end());
+  return head;
+}
+
+/// Checks what every completed 12-agent robotarium run reports and returns its summary.
+json expect_complete_robotarium(const std::string& dir, const std::string& dds) {
+  const auto j = read_json(dir + "/run/summary.json");
+  EXPECT_FALSE(j.empty()) << "no summary.json; " << log_of(dir);
+  if (j.empty()) return j;
+  EXPECT_EQ(j["dds"], dds);
+  EXPECT_EQ(j["scenario"], "robotarium-2019");
+  EXPECT_EQ(j["seed"], 1);
+  EXPECT_EQ(j["ticks"], short_robotarium_ticks);
+  EXPECT_EQ(j["agents"]["started"], 12);
+  EXPECT_EQ(j["agents"]["lost"], 0);
+  EXPECT_GT(j["launch"]["wall_seconds"].get<double>(), 0.0);
+  EXPECT_EQ(j["trajectory_sha256"].get<std::string>().size(), 64u);
+  return j;
+}
+
+TEST(LaunchRuns, RobotariumGivesOneTrajectoryOverFastDdsCycloneDdsMixedAndInProcess) {
+  if (!built("fastdds") || !built("cyclonedds")) GTEST_SKIP() << "needs both vendors";
+  const auto fast = fresh_dir("robotarium-fastdds");
+  ASSERT_EQ(run_launch(fast, args({robotarium, "--dds", "fastdds", "--domain", std::to_string(domain_fastdds)},
+                                  short_robotarium)), 0) << log_of(fast);
+  const auto cyclone = fresh_dir("robotarium-cyclonedds");
+  ASSERT_EQ(run_launch(cyclone, args({robotarium, "--dds", "cyclonedds", "--domain",
+                                      std::to_string(domain_cyclonedds)}, short_robotarium)), 0)
+      << log_of(cyclone);
+  const auto mixed = fresh_dir("robotarium-mixed");
+  ASSERT_EQ(run_launch(mixed, args({robotarium, "--dds", "mixed", "--domain", std::to_string(domain_mixed)},
+                                   short_robotarium)), 0) << log_of(mixed);
+  const auto in_process = fresh_dir("robotarium-in-process");
+  ASSERT_EQ(run_launch(in_process, args({robotarium, "--in-process"}, short_robotarium)), 0) << log_of(in_process);
+
+  const auto jf = expect_complete_robotarium(fast, "fastdds");
+  const auto jc = expect_complete_robotarium(cyclone, "cyclonedds");
+  const auto jm = expect_complete_robotarium(mixed, "mixed");
+  const auto ji = expect_complete_robotarium(in_process, "inmemory");
+  ASSERT_FALSE(jf.empty() || jc.empty() || jm.empty() || ji.empty());
+  EXPECT_EQ(jf["trajectory_sha256"], jc["trajectory_sha256"]);
+  EXPECT_EQ(jf["trajectory_sha256"], jm["trajectory_sha256"]);
+  EXPECT_EQ(jf["trajectory_sha256"], ji["trajectory_sha256"]);
+
+  // Mixed: agents alternate vendors, the arena takes the other vendor from agent 0.
+  EXPECT_EQ(jm["launch"]["arena_vendor"], "cyclonedds");
+  EXPECT_EQ(jm["launch"]["agent_vendors"]["fastdds"], 6);
+  EXPECT_EQ(jm["launch"]["agent_vendors"]["cyclonedds"], 6);
+  const auto processes = read_json(mixed + "/run/processes.json");
+  ASSERT_EQ(processes["agents"].size(), 12u);
+  for (const auto& a : processes["agents"]) {
+    EXPECT_EQ(a["vendor"], a["robot"].get<int>() % 2 == 0 ? "fastdds" : "cyclonedds");
+  }
+  // Every program's output went to its own log; every child is gone.
+  for (int robot = 0; robot < 12; ++robot) {
+    EXPECT_TRUE(std::filesystem::exists(mixed + "/run/logs/agent_" + std::to_string(robot) + ".log"));
+  }
+  EXPECT_TRUE(std::filesystem::exists(mixed + "/run/logs/arena.log"));
+  EXPECT_TRUE(alive(child_pids(processes)).empty());
+}
+
+// The physical robotarium world of this build rarely makes decisions within 400 s, so this run
+// also checks a trajectory that contains retreat decisions: the same 12 robots in the kinetic
+// world (robots retreat from about t = 90 s on), mixed vendors against in-process.
+TEST(LaunchRuns, KineticRobotariumWithRetreatsGivesOneTrajectoryMixedAndInProcess) {
+  if (!built("fastdds") || !built("cyclonedds")) GTEST_SKIP() << "needs both vendors";
+  const std::vector<std::string> kinetic = args(short_robotarium, {"--set", "arena.encounter_model=kinetic"});
+  const auto mixed = fresh_dir("kinetic-mixed");
+  ASSERT_EQ(run_launch(mixed, args({robotarium, "--dds", "mixed", "--domain", std::to_string(domain_kinetic)}, kinetic)), 0)
+      << log_of(mixed);
+  const auto in_process = fresh_dir("kinetic-in-process");
+  ASSERT_EQ(run_launch(in_process, args({robotarium, "--in-process"}, kinetic)), 0) << log_of(in_process);
+  const auto jm = read_json(mixed + "/run/summary.json");
+  const auto ji = read_json(in_process + "/run/summary.json");
+  ASSERT_FALSE(jm.empty() || ji.empty());
+  EXPECT_GT(jm["agents"]["retreated"].get<int>(), 0);
+  EXPECT_EQ(jm["agents"]["lost"], 0);
+  EXPECT_EQ(jm["trajectory_sha256"], ji["trajectory_sha256"]);
+  EXPECT_EQ(jm["population"]["final"], ji["population"]["final"]);
+  EXPECT_EQ(jm["deliveries"], ji["deliveries"]);
+}
+
+TEST(LaunchRuns, SeedsRunOneByOneAndADifferentSeedGivesADifferentTrajectory) {
+  // Kinetic, so that the trajectories contain decisions to tell apart (the hash covers phases
+  // and decisions, not positions).
+  const std::vector<std::string> kinetic = args(short_robotarium, {"--set", "arena.encounter_model=kinetic"});
+  const auto dir = fresh_dir("seeds-in-process");
+  ASSERT_EQ(run_launch(dir, args({robotarium, "--in-process", "--seeds", "1:3"}, kinetic)), 0) << log_of(dir);
+  std::vector<std::string> hashes;
+  for (int seed = 1; seed <= 3; ++seed) {
+    const auto j = read_json(dir + "/run/seed_" + std::to_string(seed) + "/summary.json");
+    ASSERT_FALSE(j.empty()) << "seed " << seed;
+    EXPECT_EQ(j["seed"], seed);
+    hashes.push_back(j["trajectory_sha256"]);
+  }
+  EXPECT_NE(hashes[0], hashes[1]);
+  EXPECT_NE(hashes[1], hashes[2]);
+  EXPECT_NE(hashes[0], hashes[2]);
+
+  const auto agg = read_json(dir + "/run/seeds_summary.json");
+  ASSERT_FALSE(agg.empty());
+  EXPECT_EQ(agg["seeds"], 3);
+  ASSERT_EQ(agg["runs"].size(), 3u);
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(agg["runs"][i]["trajectory_sha256"], hashes[i]);
+  for (const char* key : {"final", "mean_last_300s"}) {
+    EXPECT_EQ(agg["population"][key]["n"], 3);
+    EXPECT_GE(agg["population"][key]["std"].get<double>(), 0.0);
+  }
+  EXPECT_GT(agg["deliveries"]["mean"].get<double>(), 0.0);
+
+  // Seed 2 alone, in processes, is seed 2 of the sweep.
+  if (!built("cyclonedds")) return;
+  const auto one = fresh_dir("seed-2-cyclonedds");
+  ASSERT_EQ(run_launch(one, args({robotarium, "--dds", "cyclonedds", "--domain", std::to_string(domain_kinetic),
+                                  "--seed", "2"}, kinetic)), 0) << log_of(one);
+  EXPECT_EQ(read_json(one + "/run/summary.json")["trajectory_sha256"], hashes[1]);
+}
+
+TEST(LaunchRuns, RealTimeModePassesThrough) {
+  const std::string vendor = built("cyclonedds") ? "cyclonedds" : "fastdds";
+  const auto dir = fresh_dir("realtime");
+  // 3 simulated seconds at 3x: one wall second of ticks.
+  ASSERT_EQ(run_launch(dir, {robotarium, "--dds", vendor, "--domain", std::to_string(domain_realtime),
+                             "--set", "run.mode=realtime", "--set", "run.duration=3", "--set", "run.speed=3"}),
+            0) << log_of(dir);
+  const auto j = read_json(dir + "/run/summary.json");
+  ASSERT_FALSE(j.empty());
+  EXPECT_EQ(j["mode"], "realtime");
+  EXPECT_GE(j["ticks"].get<int>(), 100);  // 3 s / 0.03 s (the last tick may round up)
+  EXPECT_LE(j["ticks"].get<int>(), 101);
+  EXPECT_EQ(j["agents"]["started"], 12);
+  EXPECT_EQ(j["agents"]["lost"], 0);
+}
+
+}  // namespace
+}  // namespace retreat::launch_test
