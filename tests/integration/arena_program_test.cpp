@@ -128,6 +128,21 @@ TEST(ArenaProgram, AKilledAgentIsDeclaredLostAndTheRunCompletes) {
   EXPECT_EQ(j["ticks"], 33334);
 }
 
+TEST(ArenaProgram, ARealTimeRunPacesTicksByTheClockAndCompletes) {
+  const std::string vendor = built("cyclonedds") ? "cyclonedds" : "fastdds";
+  // 30 simulated seconds at 20x: 1,000 ticks in about 1.5 wall seconds.
+  const auto scenario = small_scenario(30);
+  auto s = start(scenario, vendor, std::vector<std::string>(4, vendor), 97, tmp + "/run_realtime",
+                 {"--set", "run.mode=realtime", "--set", "run.speed=20"});
+  const auto j = finish(s, tmp + "/run_realtime");
+  ASSERT_FALSE(j.empty());
+  EXPECT_EQ(j["mode"], "realtime");
+  EXPECT_EQ(j["ticks"], 1000);
+  EXPECT_EQ(j["agents"]["started"], 4);
+  // Paced by the clock: 30 s at 20x cannot take less than 1.5 s of wall time.
+  EXPECT_GE(j["wall_seconds"].get<double>(), 1.5);
+}
+
 TEST(ArenaProgram, DecisionsForUnknownRobotsOrPastTicksAreDroppedAndCounted) {
   const std::string vendor = built("cyclonedds") ? "cyclonedds" : "fastdds";
   const auto scenario = small_scenario(1000);

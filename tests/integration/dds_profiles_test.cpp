@@ -68,6 +68,7 @@ struct SwarmRun {
   std::string hub_result;              ///< the hub's result line (empty: none written)
   std::optional<int> hub_exit;         ///< 0: everything matched and answered
   std::vector<int> agent_participants;  ///< per agent: participants it discovered (-1: unknown)
+  std::vector<std::string> agent_logs;
   std::string hub_log;
 };
 
@@ -104,6 +105,7 @@ SwarmRun run_swarm(const std::string& vendor, const std::string& hub_profile,
     const auto log = read_file(dir + "/agent_" + std::to_string(i) + ".log");
     std::smatch m;
     run.agent_participants.push_back(std::regex_search(log, m, participants) ? std::stoi(m[1]) : -1);
+    run.agent_logs.push_back(log);
   }
   return run;
 }
@@ -121,7 +123,8 @@ void expect_everyone_matched_and_answered(const SwarmRun& run, int agents) {
 void expect_star(const SwarmRun& run) {
   for (std::size_t i = 0; i < run.agent_participants.size(); ++i) {
     EXPECT_EQ(run.agent_participants[i], 2) << "agent " << i << " discovered "
-                                            << run.agent_participants[i] << " participants";
+                                            << run.agent_participants[i] << " participants; log:\n"
+                                            << run.agent_logs[i];
   }
 }
 
