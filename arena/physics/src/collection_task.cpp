@@ -5,8 +5,8 @@
 
 namespace retreat::physics {
 
-CollectionTask::CollectionTask(const Domain& domain, double lambda_p, double lambda_d,
-                               double delta, Rng& world_rng)
+CollectionTask::CollectionTask(const Domain& domain, double lambda_p, double lambda_d, double delta,
+                               Rng& world_rng)
     : domain_(domain), delta_(delta) {
   init(pickups_, static_cast<std::size_t>(std::llround(lambda_p * domain.area())), lambda_p,
        world_rng);
@@ -35,8 +35,7 @@ std::size_t CollectionTask::PointSet::cell_index(const Vec2& p) const {
   const double y0 = -0.5 * ny * cell;
   const int cx = std::clamp(static_cast<int>(std::floor((p.x() - x0) / cell)), 0, nx - 1);
   const int cy = std::clamp(static_cast<int>(std::floor((p.y() - y0) / cell)), 0, ny - 1);
-  return static_cast<std::size_t>(cy) * static_cast<std::size_t>(nx) +
-         static_cast<std::size_t>(cx);
+  return static_cast<std::size_t>(cy) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(cx);
 }
 
 void CollectionTask::PointSet::insert(std::uint32_t index) {

@@ -35,8 +35,8 @@ void NeighbourGrid::build(const std::vector<Vec2>& points) {
   std::fill(start_.begin(), start_.end(), 0);
   cell_of_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const std::uint32_t cell = static_cast<std::uint32_t>(cell_y(points[i].y()) * nx_ +
-                                                          cell_x(points[i].x()));
+    const std::uint32_t cell =
+        static_cast<std::uint32_t>(cell_y(points[i].y()) * nx_ + cell_x(points[i].x()));
     cell_of_[i] = cell;
     ++start_[cell + 1];
   }

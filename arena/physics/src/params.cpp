@@ -61,20 +61,28 @@ Domain domain_of(const WorldParams& p) {
 
 std::string_view to_string(Phase phase) {
   switch (phase) {
-    case Phase::waiting: return "waiting";
-    case Phase::inside: return "inside";
-    case Phase::retreating: return "retreating";
-    case Phase::departed: return "departed";
+    case Phase::waiting:
+      return "waiting";
+    case Phase::inside:
+      return "inside";
+    case Phase::retreating:
+      return "retreating";
+    case Phase::departed:
+      return "departed";
   }
   return "?";
 }
 
 std::string_view to_string(TaskState state) {
   switch (state) {
-    case TaskState::f: return "f";
-    case TaskState::l: return "l";
-    case TaskState::fc: return "fc";
-    case TaskState::lc: return "lc";
+    case TaskState::f:
+      return "f";
+    case TaskState::l:
+      return "l";
+    case TaskState::fc:
+      return "fc";
+    case TaskState::lc:
+      return "lc";
   }
   return "?";
 }
@@ -114,8 +122,8 @@ double walk_inset(const WorldParams& params) {
 
 std::uint32_t max_robots(const WorldParams& params) {
   const double disc = pi * 0.25 * params.safety_distance * params.safety_distance;
-  const double walkable = domain_of(params).inset_area(params.robot_radius +
-                                                       params.projection_distance);
+  const double walkable =
+      domain_of(params).inset_area(params.robot_radius + params.projection_distance);
   return static_cast<std::uint32_t>(std::floor(0.4 * walkable / disc));
 }
 
@@ -142,8 +150,7 @@ void WorldParams::validate() const {
   }
   require_positive("model.v", v, "m/s");
   require_positive("arena.max_speed", max_speed, "m/s");
-  require(v <= max_speed, "model.v", v,
-          "must be <= arena.max_speed (" + text(max_speed) + " m/s)");
+  require(v <= max_speed, "model.v", v, "must be <= arena.max_speed (" + text(max_speed) + " m/s)");
   require_positive("arena.projection_distance", projection_distance, "m");
   require(projection_distance < robot_radius + delta, "arena.projection_distance",
           projection_distance,
@@ -171,15 +178,17 @@ void WorldParams::validate() const {
           "must divide arena.tick_dt (" + text(tick_dt) + " s) into a whole number of steps");
   if (model == EncounterModel::physical) {
     require(max_speed * physics_dt <= 0.25 * delta, "arena.physics_dt", physics_dt,
-            "must be <= model.delta / (4 * arena.max_speed) (" +
-                text(0.25 * delta / max_speed) + " s) so that encounters are resolved");
+            "must be <= model.delta / (4 * arena.max_speed) (" + text(0.25 * delta / max_speed) +
+                " s) so that encounters are resolved");
     require(max_turn_rate * physics_dt <= 0.5, "arena.physics_dt", physics_dt,
             "must be <= 0.5 / arena.max_turn_rate (" + text(0.5 / max_turn_rate) + " s)");
   }
   require_positive("arena.gamma", gamma, "1/(m^4 s)");
   require_positive("arena.boundary_gain", boundary_gain, "1/s");
-  require(boundary_gain * physics_dt <= 1.0, "arena.boundary_gain", boundary_gain,
-          "must be <= 1 / arena.physics_dt (" + text(1.0 / physics_dt) + " 1/s)");
+  if (model == EncounterModel::physical) {
+    require(boundary_gain * physics_dt <= 1.0, "arena.boundary_gain", boundary_gain,
+            "must be <= 1 / arena.physics_dt (" + text(1.0 / physics_dt) + " 1/s)");
+  }
   require_non_negative("arena.tumble_rate", tumble_rate, "1/s");
   require_positive("arena.unblock_time", unblock_time, "s");
   require_non_negative("arena.lambda_in", lambda_in, "robots/(m^2 s)");
@@ -207,8 +216,8 @@ void WorldParams::validate() const {
     require(robots_waiting >= 1, "arena.robots_waiting", robots_waiting,
             "must be >= 1 with arena.queue = endless (the length of the visible queue)");
   }
-  require(static_cast<double>(robots_inside) + robots_waiting >= 1.0, "arena.robots_inside", robots_inside,
-          "must be >= 1 when arena.robots_waiting = 0");
+  require(static_cast<double>(robots_inside) + robots_waiting >= 1.0, "arena.robots_inside",
+          robots_inside, "must be >= 1 when arena.robots_waiting = 0");
   const std::uint32_t fit = max_robots(*this);
   require(robots_inside <= fit, "arena.robots_inside", robots_inside,
           "must be <= " + std::to_string(fit) +

@@ -95,13 +95,19 @@ Telemetry WorldBase::telemetry() const {
   for (RobotId id = 0; id < stats_.size(); ++id) {
     const RobotStats& s = stats_[id];
     switch (s.phase) {
-      case Phase::waiting: ++t.waiting; break;
+      case Phase::waiting:
+        ++t.waiting;
+        break;
       case Phase::inside:
         ++t.inside;
         ++t.state_counts[static_cast<std::size_t>(task_state(s.loaded, in_contact_[id] != 0))];
         break;
-      case Phase::retreating: ++t.retreating; break;
-      case Phase::departed: ++t.departed; break;
+      case Phase::retreating:
+        ++t.retreating;
+        break;
+      case Phase::departed:
+        ++t.departed;
+        break;
     }
     for (std::size_t k = 0; k < task_state_count; ++k) {
       t.state_time[k] += s.state_time[k];

@@ -46,10 +46,10 @@ class KineticWorld final : public WorldBase {
   void on_retreat(RobotId id) override;
   void simulate(RobotId id, double from, double to, double omega_c);
 
-  std::vector<Agent> agents_;     // by id
-  std::vector<RobotId> active_;   // robots in D, ascending id
+  std::vector<Agent> agents_;    // by id
+  std::vector<RobotId> active_;  // robots in D, ascending id
   double drive_out_time_ = 0.0;
-  double c_ = 0.0;                // 4δ(4/π)v [m²/s]
+  double c_ = 0.0;  // 4δ(4/π)v [m²/s]
   double omega_p_ = 0.0;
   double omega_d_ = 0.0;
   std::vector<ContactRecord> records_;

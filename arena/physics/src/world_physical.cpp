@@ -50,13 +50,13 @@ PhysicalWorld::PhysicalWorld(const WorldParams& params)
       entry_clearance_(entry_clearance(params)) {
   // Below this clearance of q the walk may reflect or the boundary constraint may bind
   // (α·c < u_max); above it both are inactive and the exact ellipse distance is not needed.
-  const double u_max = std::hypot(params.max_speed, params.projection_distance *
-                                                        params.max_turn_rate);
+  const double u_max =
+      std::hypot(params.max_speed, params.projection_distance * params.max_turn_rate);
   boundary_zone_ = std::max(walk_margin_, u_max / params.boundary_gain) + 1e-9;
   init_population();
   const std::vector<Pose> start =
-      place_robots(domain_, params.robots_inside, walk_inset(params),
-                   params.projection_distance, params.safety_distance, world_rng_);
+      place_robots(domain_, params.robots_inside, walk_inset(params), params.projection_distance,
+                   params.safety_distance, world_rng_);
   for (RobotId id = 0; id < params.robots_inside; ++id) {
     Body& body = bodies_[id];
     body.pose = start[id];
@@ -134,9 +134,8 @@ bool PhysicalWorld::try_enter(RobotId id) {
     // Footprint just outside, touching ∂D, facing inwards.
     const Vec2 p = entry.point + params_.robot_radius * entry.outward_normal;
     bool room = true;
-    grid_.for_each_candidate(p, [&](std::uint32_t k) {
-      room = room && (position_[k] - p).squaredNorm() >= clear2;
-    });
+    grid_.for_each_candidate(
+        p, [&](std::uint32_t k) { room = room && (position_[k] - p).squaredNorm() >= clear2; });
     for (const Vec2& other : entrants_) {
       room = room && (other - p).squaredNorm() >= clear2;
     }

@@ -51,8 +51,8 @@ class PhysicalWorld final : public WorldBase {
   NeighbourGrid grid_;
   CollectionTask task_;
   EncounterTracker tracker_;
-  std::vector<Body> bodies_;      // by id
-  std::vector<RobotId> active_;   // robots in D (inside or retreating), ascending id
+  std::vector<Body> bodies_;     // by id
+  std::vector<RobotId> active_;  // robots in D (inside or retreating), ascending id
   std::int64_t step_ = 0;
   std::int64_t substeps_ = 1;
   double dt_ = 0.01;
@@ -65,7 +65,7 @@ class PhysicalWorld final : public WorldBase {
   std::vector<Vec2> position_;
   std::vector<Vec2> heading_;
   std::vector<Vec2> projected_;
-  std::vector<Vec2> entrants_;    // robots placed since the last snapshot
+  std::vector<Vec2> entrants_;  // robots placed since the last snapshot
   // Scratch.
   std::vector<HalfPlane> constraints_;
   std::vector<RobotId> partners_;

@@ -129,6 +129,7 @@ std::vector<Field> make_fields() {
       field("arena", "projection_distance", w, &WorldParams::projection_distance),
       field("arena", "boundary_gain", w, &WorldParams::boundary_gain),
       field("arena", "tumble_rate", w, &WorldParams::tumble_rate),
+      field("arena", "unblock_time", w, &WorldParams::unblock_time),
       field("arena", "record_encounters", w, &WorldParams::record_encounters),
       field("run", "mode", r, &RunParams::mode),
       field("run", "speed", r, &RunParams::speed),

@@ -1,13 +1,15 @@
 // The exact barrier QP against brute force, and the certificate's constraints.
 
+#include "retreat/physics/barrier_qp.hpp"
+
 #include <gtest/gtest.h>
 
+#include <Eigen/LU>
 #include <cmath>
 #include <limits>
 #include <vector>
 
 #include "retreat/physics/barrier_certificate.hpp"
-#include "retreat/physics/barrier_qp.hpp"
 #include "retreat/physics/rng.hpp"
 
 namespace retreat::physics {
@@ -137,7 +139,8 @@ TEST(PhysicsBarrierCertificate, PairsBeyondTheInteractionRangeAddNoConstraint) {
     const SensedBody self = body(Vec2::Zero(), rng.angle(), 0.04);
     const double d = cert.interaction_range() * rng.uniform(1.0, 3.0);
     const double bearing = rng.angle();
-    const SensedBody other = body(d * Vec2(std::cos(bearing), std::sin(bearing)), rng.angle(), 0.04);
+    const SensedBody other =
+        body(d * Vec2(std::cos(bearing), std::sin(bearing)), rng.angle(), 0.04);
     std::vector<HalfPlane> c;
     cert.add_neighbour(c, self, other);
     EXPECT_TRUE(c.empty()) << "distance " << d;

@@ -19,20 +19,20 @@ constexpr double lambda = 0.99;
 constexpr double warm_up = 5.0;     // s: lets the placement's correlations wash out
 constexpr double duration = 100.0;  // s
 
-struct Run {
-  double formula_rate = 0.0;            // Ω_c = c(N − 1)/|D| [1/s]
-  double measured_rate = 0.0;           // onsets per robot per second
+struct Measurements {
+  double formula_rate = 0.0;   // Ω_c = c(N − 1)/|D| [1/s]
+  double measured_rate = 0.0;  // onsets per robot per second
   double total_onsets = 0.0;
-  std::vector<double> intervals;        // per-robot inter-onset times [s]
-  std::vector<double> pair_durations;   // [s]
+  std::vector<double> intervals;       // per-robot inter-onset times [s]
+  std::vector<double> pair_durations;  // [s]
   std::vector<double> episode_durations;
   double dt = 0.0;
 };
 
 /// One simulation shared by the tests of this file (each ctest process runs it once).
-const Run& run() {
-  static const Run result = [] {
-    Run r;
+const Measurements& measurements() {
+  static const Measurements result = [] {
+    Measurements r;
     const WorldParams p = testing::encounter_validation(robots, lambda);
     r.dt = p.tick_dt;
     const double area = p.width * p.height;
@@ -78,7 +78,7 @@ TEST(PhysicsEncounterModel, OnsetRatePerRobotMatchesTheSweptAreaFormula) {
   // Tolerance 5 % = 3.7 sd (false failure ≈ 2e-4), which also covers the O(1 %) boundary
   // effects of a finite square (robots near the wall have fewer neighbours but the walk region
   // is 2 % smaller than |D|).
-  const Run& r = run();
+  const Measurements& r = measurements();
   RecordProperty("measured_onset_rate", std::to_string(r.measured_rate));
   RecordProperty("formula_onset_rate", std::to_string(r.formula_rate));
   RecordProperty("ratio", std::to_string(r.measured_rate / r.formula_rate));
@@ -91,7 +91,7 @@ TEST(PhysicsEncounterModel, InterEncounterTimesAreExponentialWithTheFormulaRate)
   // Critical value at α = 0.001: 1.95/√n_eff. n_eff = n/2 because each encounter appears in two
   // robots' sequences (conservative). Onset times are sampled every dt = 0.01 s, which moves
   // the empirical CDF by at most Ω_c·dt = 0.0055; that bound is added to the threshold.
-  const Run& r = run();
+  const Measurements& r = measurements();
   std::vector<double> x = r.intervals;
   std::sort(x.begin(), x.end());
   const double n = static_cast<double>(x.size());
@@ -113,7 +113,7 @@ TEST(PhysicsEncounterModel, ContactDurationsYieldAFittedRho) {
   // ρ is the maximum-likelihood rate of an exponential fit, 1 / mean duration. Two readings:
   // per pair (the time two robots stay within 2δ) and per robot (the time until a robot has no
   // one within 2δ: the CTMC's fc/lc sojourn, MODEL.md §3). The paper reports ρ = 2.44.
-  const Run& r = run();
+  const Measurements& r = measurements();
   ASSERT_GT(r.pair_durations.size(), 2000u);
   ASSERT_GT(r.episode_durations.size(), 2000u);
   const double rho_pair = 1.0 / mean(r.pair_durations);

@@ -52,8 +52,8 @@ TEST(PhysicsDomain, EllipseInsetAreaMatchesACountOfInsidePoints) {
 
 TEST(PhysicsDomain, ContainsAgreesWithTheSignOfTheSignedDistance) {
   Rng rng(7);
-  for (const Domain& d : {Domain::ellipse(1.2, 0.8), Domain::ellipse(0.5, 2.0),
-                          Domain::rectangle(3.2, 2.0)}) {
+  for (const Domain& d :
+       {Domain::ellipse(1.2, 0.8), Domain::ellipse(0.5, 2.0), Domain::rectangle(3.2, 2.0)}) {
     for (int k = 0; k < 2000; ++k) {
       const Vec2 p(rng.uniform(-2.5, 2.5), rng.uniform(-2.5, 2.5));
       EXPECT_EQ(d.contains(p), d.signed_distance(p) <= 0.0) << p.transpose();
@@ -63,8 +63,8 @@ TEST(PhysicsDomain, ContainsAgreesWithTheSignOfTheSignedDistance) {
 
 TEST(PhysicsDomain, NearestBoundaryPointIsTheClosestOfADenseBoundarySample) {
   Rng rng(11);
-  for (const Domain& d : {Domain::ellipse(1.2, 0.8), Domain::ellipse(0.5, 2.0),
-                          Domain::rectangle(3.2, 2.0)}) {
+  for (const Domain& d :
+       {Domain::ellipse(1.2, 0.8), Domain::ellipse(0.5, 2.0), Domain::rectangle(3.2, 2.0)}) {
     // 20 000 boundary points, spaced ≤ 0.6 mm: the brute-force distance is within 1e-3 m.
     std::vector<Vec2> boundary;
     for (int k = 0; k < 20000; ++k) {

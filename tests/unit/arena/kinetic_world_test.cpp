@@ -30,8 +30,8 @@ WorldParams kinetic(std::uint32_t robots, double area) {
 }
 
 struct Summary {
-  double omega_c = 0.0;             // formula rate [1/s]
-  double onset_rate = 0.0;          // measured onsets per robot per second
+  double omega_c = 0.0;                  // formula rate [1/s]
+  double onset_rate = 0.0;               // measured onsets per robot per second
   std::vector<double> contact_fraction;  // per robot
   std::vector<double> delivery_rate;     // per robot [1/s]
 };
@@ -51,8 +51,8 @@ const Summary& summary() {
     r.onset_rate = static_cast<double>(world->telemetry().onsets) / (n * duration);
     for (RobotId id = 0; id < n; ++id) {
       const RobotStats& st = world->robot_stats(id);
-      const double total = st.state_time[0] + st.state_time[1] + st.state_time[2] +
-                           st.state_time[3];
+      const double total =
+          st.state_time[0] + st.state_time[1] + st.state_time[2] + st.state_time[3];
       r.contact_fraction.push_back((st.state_time[2] + st.state_time[3]) / total);
       r.delivery_rate.push_back(static_cast<double>(st.deliveries) / duration);
     }

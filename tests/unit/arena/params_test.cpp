@@ -1,5 +1,7 @@
 // WorldParams::validate(): every bad field is named with its key and value.
 
+#include "retreat/physics/params.hpp"
+
 #include <gtest/gtest.h>
 
 #include <functional>
@@ -7,7 +9,6 @@
 #include <string>
 #include <vector>
 
-#include "retreat/physics/params.hpp"
 #include "retreat/physics/world.hpp"
 
 namespace retreat::physics {
@@ -37,7 +38,8 @@ TEST(PhysicsParams, DefaultsAreValidForBothEncounterModels) {
 TEST(PhysicsParams, EachInvalidFieldIsRejectedWithItsKeyAndValue) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const std::vector<BadCase> cases = {
-      {"arena.encounter_model = 'ballistic':", [](WorldParams& p) { p.encounter_model = "ballistic"; }},
+      {"arena.encounter_model = 'ballistic':",
+       [](WorldParams& p) { p.encounter_model = "ballistic"; }},
       {"arena.shape = 'hexagon':", [](WorldParams& p) { p.shape = "hexagon"; }},
       {"arena.queue = 'lifo':", [](WorldParams& p) { p.queue = "lifo"; }},
       {"arena.influx = 'bursty':", [](WorldParams& p) { p.influx = "bursty"; }},
@@ -56,13 +58,20 @@ TEST(PhysicsParams, EachInvalidFieldIsRejectedWithItsKeyAndValue) {
       {"model.lambda_p = -1:", [](WorldParams& p) { p.lambda_p = -1; }},
       {"model.lambda_d = inf:",
        [](WorldParams& p) { p.lambda_d = std::numeric_limits<double>::infinity(); }},
-      {"model.rho = 0:", [](WorldParams& p) { p.encounter_model = "kinetic"; p.rho = 0; }},
+      {"model.rho = 0:",
+       [](WorldParams& p) {
+         p.encounter_model = "kinetic";
+         p.rho = 0;
+       }},
       {"arena.tick_dt = 0:", [](WorldParams& p) { p.tick_dt = 0; }},
       {"arena.physics_dt = -0.01:", [](WorldParams& p) { p.physics_dt = -0.01; }},
-      {"arena.physics_dt = 0.04:", [](WorldParams& p) { p.physics_dt = 0.04; }},  // > tick_dt
+      {"arena.physics_dt = 0.04:", [](WorldParams& p) { p.physics_dt = 0.04; }},    // > tick_dt
       {"arena.physics_dt = 0.007:", [](WorldParams& p) { p.physics_dt = 0.007; }},  // no divisor
       {"arena.physics_dt = 0.2:",
-       [](WorldParams& p) { p.physics_dt = 0.2; p.tick_dt = 0.2; }},  // 0.2·0.2 > δ/4
+       [](WorldParams& p) {
+         p.physics_dt = 0.2;
+         p.tick_dt = 0.2;
+       }},  // 0.2·0.2 > δ/4
       {"arena.gamma = 0:", [](WorldParams& p) { p.gamma = 0; }},
       {"arena.boundary_gain = 200:", [](WorldParams& p) { p.boundary_gain = 200; }},  // > 1/dt
       {"arena.tumble_rate = -0.1:", [](WorldParams& p) { p.tumble_rate = -0.1; }},
@@ -70,21 +79,35 @@ TEST(PhysicsParams, EachInvalidFieldIsRejectedWithItsKeyAndValue) {
       {"arena.lambda_in = -0.02:", [](WorldParams& p) { p.lambda_in = -0.02; }},
       {"arena.semi_axis_x = 0:", [](WorldParams& p) { p.semi_axis_x = 0; }},
       {"arena.semi_axis_y = 0.1:", [](WorldParams& p) { p.semi_axis_y = 0.1; }},  // too small
-      {"arena.width = -3:", [](WorldParams& p) { p.shape = "rectangle"; p.width = -3; }},
-      {"arena.height = 0.2:", [](WorldParams& p) { p.shape = "rectangle"; p.height = 0.2; }},
+      {"arena.width = -3:",
+       [](WorldParams& p) {
+         p.shape = "rectangle";
+         p.width = -3;
+       }},
+      {"arena.height = 0.2:",
+       [](WorldParams& p) {
+         p.shape = "rectangle";
+         p.height = 0.2;
+       }},
       {"arena.robots_inside = 500:", [](WorldParams& p) { p.robots_inside = 500; }},
       {"arena.robots_waiting = 400:", [](WorldParams& p) { p.robots_waiting = 400; }},
       {"arena.robots_waiting = 0:",
-       [](WorldParams& p) { p.queue = "endless"; p.robots_waiting = 0; }},
+       [](WorldParams& p) {
+         p.queue = "endless";
+         p.robots_waiting = 0;
+       }},
       {"arena.robots_inside = 0:",
-       [](WorldParams& p) { p.robots_inside = 0; p.robots_waiting = 0; }},
+       [](WorldParams& p) {
+         p.robots_inside = 0;
+         p.robots_waiting = 0;
+       }},
   };
   for (const BadCase& c : cases) {
     WorldParams p;
     c.spoil(p);
     const std::string message = message_of(p);
-    EXPECT_EQ(message.rfind(c.prefix, 0), 0u) << "expected '" << c.prefix << "...', got '"
-                                              << message << "'";
+    EXPECT_EQ(message.rfind(c.prefix, 0), 0u)
+        << "expected '" << c.prefix << "...', got '" << message << "'";
     EXPECT_EQ(message.find('\n'), std::string::npos) << message;
   }
 }

@@ -1,12 +1,12 @@
 // Both worlds: queue and influx, retreat, commands, frames and determinism.
 
+#include "retreat/physics/world.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <string>
 #include <vector>
-
-#include "retreat/physics/world.hpp"
 
 namespace retreat::physics {
 namespace {
@@ -178,8 +178,8 @@ TEST_P(PhysicsWorld, TheSameSeedGivesTheSameRunAndAnotherSeedAnotherRun) {
 
 INSTANTIATE_TEST_SUITE_P(BothEncounterModels, PhysicsWorld,
                          ::testing::Values("physical", "kinetic"),
-                         [](const ::testing::TestParamInfo<std::string>& info) {
-                           return info.param;
+                         [](const ::testing::TestParamInfo<std::string>& model) {
+                           return model.param;
                          });
 
 TEST(PhysicsPhysicalWorld, RetreatingRobotsStillCauseEncountersUntilTheyLeave) {

@@ -36,13 +36,13 @@ namespace retreat::physics {
 
 /// The numbers the barrier certificate needs (copied from WorldParams).
 struct BarrierParams {
-  double gamma = 100.0;              ///< γ [1/(m⁴·s)]
-  double safety_distance = 0.13;     ///< D_s [m]
-  double projection_distance = 0.04; ///< l [m]
-  double boundary_gain = 30.0;       ///< α [1/s]
-  double max_speed = 0.2;            ///< [m/s]
-  double max_turn_rate = 3.6;        ///< [rad/s]
-  double dt = 0.01;                  ///< physics step [s]
+  double gamma = 100.0;               ///< γ [1/(m⁴·s)]
+  double safety_distance = 0.13;      ///< D_s [m]
+  double projection_distance = 0.04;  ///< l [m]
+  double boundary_gain = 30.0;        ///< α [1/s]
+  double max_speed = 0.2;             ///< [m/s]
+  double max_turn_rate = 3.6;         ///< [rad/s]
+  double dt = 0.01;                   ///< physics step [s]
 };
 
 /// What robot i senses about itself or a neighbour: centre, unit heading and projected point.

@@ -9,10 +9,10 @@ namespace retreat::physics {
 
 /// The point of ∂D nearest to a query point.
 struct BoundaryPoint {
-  Vec2 point;             ///< nearest point of ∂D [m]
-  Vec2 outward_normal;    ///< unit outward normal of ∂D at that point (for an outside query at a
-                          ///< rectangle corner: the unit vector from the corner to the query)
-  double signed_distance; ///< distance to ∂D, negative inside D [m]
+  Vec2 point;              ///< nearest point of ∂D [m]
+  Vec2 outward_normal;     ///< unit outward normal of ∂D at that point (for an outside query at a
+                           ///< rectangle corner: the unit vector from the corner to the query)
+  double signed_distance;  ///< distance to ∂D, negative inside D [m]
 };
 
 /// A convex domain. Cheap to copy. All lengths in metres.

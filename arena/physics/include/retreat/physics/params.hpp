@@ -47,32 +47,32 @@ struct WorldParams {
   // --- arena: what is simulated ---------------------------------------------------------------
   std::string encounter_model = "physical";  ///< `physical` or `kinetic`
   std::string shape = "ellipse";             ///< `ellipse` or `rectangle`
-  double semi_axis_x = 1.2;  ///< ellipse semi-axis along x [m]
-  double semi_axis_y = 0.8;  ///< ellipse semi-axis along y [m]
-  double width = 3.2;        ///< rectangle extent along x [m]
-  double height = 2.0;       ///< rectangle extent along y [m]
-  std::uint32_t robots_inside = 8;   ///< robots in D at t = 0 (ids 0 .. robots_inside-1)
-  std::uint32_t robots_waiting = 4;  ///< robots queued outside at t = 0 (the next ids)
-  std::string queue = "finite";      ///< `finite` or `endless`
-  std::string influx = "steady";     ///< `steady` or `poisson`
-  double lambda_in = 0.02;           ///< λ_in: influx [robots/(m²·s)]; arrivals λ_in·|D| per s
+  double semi_axis_x = 1.2;                  ///< ellipse semi-axis along x [m]
+  double semi_axis_y = 0.8;                  ///< ellipse semi-axis along y [m]
+  double width = 3.2;                        ///< rectangle extent along x [m]
+  double height = 2.0;                       ///< rectangle extent along y [m]
+  std::uint32_t robots_inside = 8;           ///< robots in D at t = 0 (ids 0 .. robots_inside-1)
+  std::uint32_t robots_waiting = 4;          ///< robots queued outside at t = 0 (the next ids)
+  std::string queue = "finite";              ///< `finite` or `endless`
+  std::string influx = "steady";             ///< `steady` or `poisson`
+  double lambda_in = 0.02;  ///< λ_in: influx [robots/(m²·s)]; arrivals λ_in·|D| per s
 
   // --- arena: time ------------------------------------------------------------------------------
   double physics_dt = 0.01;  ///< integration step [s]
   double tick_dt = 0.03;     ///< the agents' dt, one frame per tick [s]; a multiple of physics_dt
 
   // --- arena: robots and barrier certificates --------------------------------------------------
-  double robot_radius = 0.055;       ///< footprint radius r [m]
-  double max_speed = 0.2;            ///< |linear speed| limit [m/s]
-  double max_turn_rate = 3.6;        ///< |turn rate| limit [rad/s]
-  double gamma = 1.0e4;              ///< barrier gain γ in −2(x_i−x_j)ᵀu_i ≤ (γ/2)h³ [1/(m⁴·s)]
-  double safety_distance = 0.13;     ///< D_s: robot centres never come closer [m]
-  double projection_distance = 0.04; ///< l: the controlled point is l ahead of the centre [m]
-  double boundary_gain = 30.0;       ///< α in the boundary barrier nᵀu ≤ α·clearance [1/s]
-  double tumble_rate = 0.02;         ///< random-walk re-orientation rate [1/s] (runs ≫ 2δ)
-  double unblock_time = 2.0;         ///< a walker held below v/2 this long re-orients [s] (≈ 2δ/v)
-  bool record_encounters = false;    ///< keep per-pair and per-robot contact intervals
-  std::uint64_t seed = 1;            ///< scenario seed; every random stream derives from it
+  double robot_radius = 0.055;  ///< footprint radius r [m]
+  double max_speed = 0.2;       ///< |linear speed| limit [m/s]
+  double max_turn_rate = 3.6;   ///< |turn rate| limit [rad/s]
+  double gamma = 1.0e4;  ///< barrier gain γ in −2(x_i−x_j)ᵀu_i ≤ (γ/2)h³ [1/(m⁴·s)]
+  double safety_distance = 0.13;      ///< D_s: robot centres never come closer [m]
+  double projection_distance = 0.04;  ///< l: the controlled point is l ahead of the centre [m]
+  double boundary_gain = 30.0;        ///< α in the boundary barrier nᵀu ≤ α·clearance [1/s]
+  double tumble_rate = 0.02;          ///< random-walk re-orientation rate [1/s] (runs ≫ 2δ)
+  double unblock_time = 2.0;       ///< a walker held below v/2 this long re-orients [s] (≈ 2δ/v)
+  bool record_encounters = false;  ///< keep per-pair and per-robot contact intervals
+  std::uint64_t seed = 1;          ///< scenario seed; every random stream derives from it
 
   // --- model: the paper's numbers the physics needs ---------------------------------------------
   double v = 0.1;          ///< `model.v`: speed of the random walk [m/s]
@@ -81,10 +81,16 @@ struct WorldParams {
   double lambda_d = 1.32;  ///< `model.lambda_d`: drop-off location density [1/m²]
   double rho = 2.44;       ///< `model.rho`: contact resolution rate, kinetic world only [1/s]
 
-  /// Checks every field and the cross-field conditions (2r ≤ D_s < 2δ, r < δ, v ≤ max_speed,
-  /// v ≤ l·max_turn_rate, integer substeps, the domain fits a robot, the robots fit the domain).
+  /// Checks every field and the cross-field conditions: r < δ, 2r ≤ D_s, v ≤ max_speed,
+  /// l < r + δ, physics_dt ≤ tick_dt in a whole number of steps, the walk region is not empty,
+  /// robots_inside (and, with a finite queue, robots_inside + robots_waiting) ≤ max_robots(),
+  /// an endless queue shows ≥ 1 robot. Physical world only: D_s < 2δ (or no encounter can
+  /// begin), v ≤ l·max_turn_rate (the walk needs q fully actuated at speed v),
+  /// max_speed·physics_dt ≤ δ/4, max_turn_rate·physics_dt ≤ 0.5, boundary_gain·physics_dt ≤ 1.
+  /// Kinetic world only: ρ > 0.
   /// @throws std::invalid_argument with one line naming the first bad key, its value and the
-  ///         allowed range, e.g. `arena.physics_dt = 0.02: must divide arena.tick_dt (0.03) ...`.
+  ///         allowed range, e.g. `arena.physics_dt = 0.007: must divide arena.tick_dt (0.03 s) into
+  ///         a whole number of steps`.
   void validate() const;
 };
 

@@ -2,8 +2,8 @@
 /// @file
 /// Unicycle kinematics and the near-identity map to the point projected l ahead of the centre.
 ///
-///   ẋ = v cosθ,  ẏ = v sinθ,  θ̇ = ω;     q = p + l·e(θ),  e(θ) = (cosθ, sinθ), n(θ) = (−sinθ, cosθ)
-///   q̇ = v·e + lω·n, so a desired velocity u of q maps to v = eᵀu, ω = nᵀu / l (MODEL.md §6).
+///   ẋ = v cosθ,  ẏ = v sinθ,  θ̇ = ω;     q = p + l·e(θ),  e(θ) = (cosθ, sinθ), n(θ) = (−sinθ,
+///   cosθ) q̇ = v·e + lω·n, so a desired velocity u of q maps to v = eᵀu, ω = nᵀu / l (MODEL.md §6).
 
 #include <cmath>
 

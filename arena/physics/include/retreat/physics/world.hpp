@@ -26,11 +26,11 @@ namespace retreat::physics {
 /// What one robot's agent receives each tick (mirrors retreat::wire::ProximityFrame).
 struct RobotFrame {
   RobotId id = 0;
-  std::int64_t tick = 0;   ///< tick this frame describes (0 before the first step)
-  double time = 0.0;       ///< tick·tick_dt [s]
+  std::int64_t tick = 0;  ///< tick this frame describes (0 before the first step)
+  double time = 0.0;      ///< tick·tick_dt [s]
   Phase phase = Phase::waiting;
-  bool in_contact = false;        ///< some robot within 2δ now
-  std::uint32_t new_onsets = 0;   ///< encounter onsets since the previous frame
+  bool in_contact = false;       ///< some robot within 2δ now
+  std::uint32_t new_onsets = 0;  ///< encounter onsets since the previous frame
 };
 
 /// The verdict on a retreat command.
@@ -59,7 +59,7 @@ struct Telemetry {
   std::uint32_t departed = 0;
   double true_density = 0.0;  ///< robots in D (inside + retreating) / |D| [robots/m²]
   std::uint64_t deliveries = 0;
-  std::uint64_t onsets = 0;   ///< all encounter onsets so far (each robot of a pair counts one)
+  std::uint64_t onsets = 0;  ///< all encounter onsets so far (each robot of a pair counts one)
   std::array<std::uint32_t, task_state_count> state_counts{};  ///< inside robots now in f,l,fc,lc
   std::array<double, task_state_count> state_time{};  ///< inside-robot time in f,l,fc,lc [s]
   CommandCounts commands;
@@ -69,8 +69,8 @@ struct Telemetry {
 /// Cumulative statistics of one robot.
 struct RobotStats {
   Phase phase = Phase::waiting;
-  double entered_at = 0.0;   ///< time it was in D first (0 for robots inside at start) [s]
-  double departed_at = -1.0; ///< time it left D (−1 if it has not) [s]
+  double entered_at = 0.0;    ///< time it was in D first (0 for robots inside at start) [s]
+  double departed_at = -1.0;  ///< time it left D (−1 if it has not) [s]
   std::uint64_t onsets = 0;
   std::uint64_t pickups = 0;
   std::uint64_t deliveries = 0;
