@@ -7,15 +7,13 @@
 // Exit codes: 0 after the robot departed or on SIGINT/SIGTERM; 2 bad input at start-up;
 // 1 middleware failure.
 
-#include <CLI/CLI.hpp>
-
 #include <atomic>
 #include <csignal>
 #include <cstdio>
 #include <iostream>
 
 #include "agent_node.hpp"
-#include "retreat/scenario/scenario.hpp"
+#include "retreat/scenario/program_options.hpp"
 #include "retreat/transport/factory.hpp"
 
 namespace {
@@ -27,41 +25,26 @@ extern "C" void on_signal(int) { stop_requested.store(true); }
 
 int main(int argc, char** argv) {
   using namespace retreat;
+  constexpr const char* program = "retreat-agent";
   CLI::App app{"retreat-agent: one robot's voluntary-retreat decision layer over DDS"};
+  scenario::CommonOptions common;
   std::uint32_t robot_id = 0;
-  std::string scenario_path, dds;
-  int domain = -1;
-  std::vector<std::string> overrides;
-  bool print_config = false;
   app.add_option("--robot-id", robot_id, "the robot this agent serves")->required();
-  app.add_option("--scenario", scenario_path, "scenario file (YAML)")->required();
-  app.add_option("--dds", dds, "middleware: fastdds or cyclonedds (overrides dds.vendor)");
-  app.add_option("--domain", domain, "DDS domain id 0..232 (overrides dds.domain)");
-  app.add_option("--set", overrides, "override a scenario value: section.key=value")->allow_extra_args(false);
-  app.add_flag("--print-config", print_config, "print the resolved scenario and exit");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    if (e.get_exit_code() == 0) return app.exit(e);
-    std::fprintf(stderr, "retreat-agent: %s\n", e.what());
-    return 2;
-  }
-
+  scenario::add_common_options(app, common);
+  if (const auto code = scenario::parse_command_line(app, argc, argv, program)) return *code;
   scenario::Scenario s;
   try {
-    if (!dds.empty()) overrides.push_back("dds.vendor=" + dds);
-    if (domain != -1) overrides.push_back("dds.domain=" + std::to_string(domain));
-    s = scenario::load(scenario_path, overrides);
+    s = scenario::load_scenario(common);
     if (!scenario::has_robot(s, robot_id)) {
       const auto n = s.arena.robots_inside + s.arena.robots_waiting;
       throw scenario::ConfigError("--robot-id " + std::to_string(robot_id) +
                                   ": the scenario has robots 0.." + std::to_string(n - 1));
     }
   } catch (const std::invalid_argument& e) {
-    std::fprintf(stderr, "retreat-agent: %s\n", e.what());
+    scenario::report_error(program, e.what());
     return 2;
   }
-  if (print_config) {
+  if (common.print_config) {
     std::cout << scenario::dump(s);
     return 0;
   }
@@ -90,10 +73,10 @@ int main(int argc, char** argv) {
                  node.agent().retreating() ? "yes" : "no");
     return 0;
   } catch (const std::invalid_argument& e) {
-    std::fprintf(stderr, "retreat-agent: %s\n", e.what());
+    scenario::report_error(program, e.what());
     return 2;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "retreat-agent: %s\n", e.what());
+    scenario::report_error(program, e.what());
     return 1;
   }
 }

@@ -10,8 +10,6 @@
 // Exit codes: 0 run completed (or stopped by SIGINT/SIGTERM, summary written); 2 bad input at
 // start-up; 1 middleware or file failure.
 
-#include <CLI/CLI.hpp>
-
 #include <atomic>
 #include <csignal>
 #include <cstdio>
@@ -19,7 +17,7 @@
 #include <thread>
 
 #include "arena_node.hpp"
-#include "retreat/scenario/scenario.hpp"
+#include "retreat/scenario/program_options.hpp"
 #include "retreat/transport/factory.hpp"
 
 namespace {
@@ -32,34 +30,21 @@ extern "C" void on_signal(int) { stop_requested.store(true); }
 int main(int argc, char** argv) {
   using namespace retreat;
   using Clock = std::chrono::steady_clock;
+  constexpr const char* program = "retreat-arena";
   CLI::App app{"retreat-arena: the simulated world of a voluntary-retreat swarm over DDS"};
-  std::string scenario_path, dds, out_dir;
-  int domain = -1;
-  std::vector<std::string> overrides;
-  bool print_config = false;
-  app.add_option("--scenario", scenario_path, "scenario file (YAML)")->required();
-  app.add_option("--dds", dds, "middleware: fastdds or cyclonedds (overrides dds.vendor)");
-  app.add_option("--domain", domain, "DDS domain id 0..232 (overrides dds.domain)");
-  app.add_option("--set", overrides, "override a scenario value: section.key=value")->allow_extra_args(false);
+  scenario::CommonOptions common;
+  std::string out_dir;
+  scenario::add_common_options(app, common);
   app.add_option("--out", out_dir, "run directory to write (telemetry, summary)");
-  app.add_flag("--print-config", print_config, "print the resolved scenario and exit");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    if (e.get_exit_code() == 0) return app.exit(e);
-    std::fprintf(stderr, "retreat-arena: %s\n", e.what());
-    return 2;
-  }
+  if (const auto code = scenario::parse_command_line(app, argc, argv, program)) return *code;
   scenario::Scenario s;
   try {
-    if (!dds.empty()) overrides.push_back("dds.vendor=" + dds);
-    if (domain != -1) overrides.push_back("dds.domain=" + std::to_string(domain));
-    s = scenario::load(scenario_path, overrides);
+    s = scenario::load_scenario(common);
   } catch (const std::invalid_argument& e) {
-    std::fprintf(stderr, "retreat-arena: %s\n", e.what());
+    scenario::report_error(program, e.what());
     return 2;
   }
-  if (print_config) {
+  if (common.print_config) {
     std::cout << scenario::dump(s);
     return 0;
   }
@@ -108,10 +93,10 @@ int main(int argc, char** argv) {
                  summary.trajectory_sha256.c_str());
     return 0;
   } catch (const std::invalid_argument& e) {
-    std::fprintf(stderr, "retreat-arena: %s\n", e.what());
+    scenario::report_error(program, e.what());
     return 2;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "retreat-arena: %s\n", e.what());
+    scenario::report_error(program, e.what());
     return 1;
   }
 }

@@ -1,0 +1,39 @@
+#pragma once
+/// @file
+/// The command line every retreat program shares: --scenario, --dds, --domain, --set,
+/// --print-config; one-line errors and exit code 2 for bad input.
+
+#include <CLI/CLI.hpp>
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "retreat/scenario/scenario.hpp"
+
+namespace retreat::scenario {
+
+struct CommonOptions {
+  std::string scenario_path;
+  std::string dds;   ///< empty: the scenario's dds.vendor
+  int domain = -1;   ///< -1: the scenario's dds.domain
+  std::vector<std::string> overrides;
+  bool print_config = false;
+};
+
+/// Adds the shared options to `app`. With `positional_scenario` the scenario file is the first
+/// positional argument (retreat-launch), otherwise `--scenario FILE` (required).
+void add_common_options(CLI::App& app, CommonOptions& options, bool positional_scenario = false);
+
+/// Parses the command line. Returns an exit code when the program should stop now: 0 after
+/// --help, 2 after a usage error (reported as one line "<program>: <message>").
+std::optional<int> parse_command_line(CLI::App& app, int argc, char** argv, std::string_view program);
+
+/// Loads the scenario with --set overrides, then --dds and --domain. Throws ConfigError.
+Scenario load_scenario(const CommonOptions& options);
+
+/// Prints "<program>: <message>" as one line on stderr.
+void report_error(std::string_view program, std::string_view message);
+
+}  // namespace retreat::scenario

@@ -1,0 +1,43 @@
+#include "retreat/scenario/program_options.hpp"
+
+#include <cstdio>
+
+namespace retreat::scenario {
+
+void add_common_options(CLI::App& app, CommonOptions& options, bool positional_scenario) {
+  if (positional_scenario) {
+    app.add_option("scenario", options.scenario_path, "scenario file (YAML)")->required();
+  } else {
+    app.add_option("--scenario", options.scenario_path, "scenario file (YAML)")->required();
+  }
+  app.add_option("--dds", options.dds, "middleware: fastdds or cyclonedds (overrides dds.vendor)");
+  app.add_option("--domain", options.domain, "DDS domain id 0..232 (overrides dds.domain)");
+  app.add_option("--set", options.overrides, "override a scenario value: section.key=value (repeatable)")
+      ->allow_extra_args(false);
+  app.add_flag("--print-config", options.print_config, "print the resolved scenario and exit");
+}
+
+std::optional<int> parse_command_line(CLI::App& app, int argc, char** argv, std::string_view program) {
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) return app.exit(e);
+    report_error(program, e.what());
+    return 2;
+  }
+  return std::nullopt;
+}
+
+Scenario load_scenario(const CommonOptions& options) {
+  auto overrides = options.overrides;
+  if (!options.dds.empty()) overrides.push_back("dds.vendor=" + options.dds);
+  if (options.domain != -1) overrides.push_back("dds.domain=" + std::to_string(options.domain));
+  return load(options.scenario_path, overrides);
+}
+
+void report_error(std::string_view program, std::string_view message) {
+  std::fprintf(stderr, "%.*s: %.*s\n", static_cast<int>(program.size()), program.data(),
+               static_cast<int>(message.size()), message.data());
+}
+
+}  // namespace retreat::scenario
