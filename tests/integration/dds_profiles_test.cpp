@@ -3,9 +3,10 @@
 // ParticipantOptions::profile set to the shipped file (by retreat_dds_swarm_node, which plays
 // the arena-like hub and the agents), the hub matches every agent's reader and writer, and
 // frames and decisions cross in both directions (a match alone proves nothing: only received
-// samples prove delivery).
+// samples prove delivery). The loopback profiles of the two vendors also work together in one
+// swarm, and in the stars no agent discovers another agent.
 //
-// Each test has its own DDS domain id in 110..159. Processes are stopped by PID. DDS stays on
+// Each test has its own DDS domain id in 110..159 (120..129). Processes are stopped by PID. DDS stays on
 // loopback: the last test checks that every shipped single-host profile pins it there.
 
 #include <gtest/gtest.h>
@@ -43,8 +44,9 @@ bool built(const std::string& vendor) {
 /// writes to the one with the suffix "_profiles".
 std::string test_dir(const std::string& suffix = "") {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  const fs::path dir = fs::path(::testing::TempDir()) / ("dds_profiles_" + std::string(info->test_suite_name()) +
-                                                         "_" + info->name() + suffix);
+  const fs::path dir =
+      fs::path(::testing::TempDir()) /
+      ("dds_profiles_" + std::string(info->test_suite_name()) + "_" + info->name() + suffix);
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir.string();
@@ -65,32 +67,49 @@ std::string replace_all(std::string text, const std::string& from, const std::st
 }
 
 struct SwarmRun {
-  std::string hub_result;              ///< the hub's result line (empty: none written)
-  std::optional<int> hub_exit;         ///< 0: everything matched and answered
+  std::string hub_result;               ///< the hub's result line (empty: none written)
+  std::optional<int> hub_exit;          ///< 0: everything matched and answered
   std::vector<int> agent_participants;  ///< per agent: participants it discovered (-1: unknown)
   std::vector<std::string> agent_logs;
   std::string hub_log;
 };
 
 /// Starts a hub (arena-like) and `agents` agent processes on `domain`, waits for the hub's
-/// verdict, stops everything by PID and collects what each process saw.
-SwarmRun run_swarm(const std::string& vendor, const std::string& hub_profile,
-                   const std::string& agent_profile, int domain, int agents,
-                   const std::vector<std::string>& env = {}) {
+/// verdict, stops everything by PID and collects what each process saw. Hub and agents may use
+/// different vendors.
+SwarmRun run_swarm(const std::string& hub_vendor, const std::string& hub_profile,
+                   const std::string& agent_vendor, const std::string& agent_profile, int domain,
+                   int agents, const std::vector<std::string>& env = {}) {
   const auto dir = test_dir();
   const auto result_path = dir + "/hub.result";
-  ChildProcess hub({RETREAT_SWARM_NODE, "--role", "hub", "--dds", vendor, "--profile", hub_profile,
-                    "--domain", std::to_string(domain), "--agents", std::to_string(agents),
-                    "--match-timeout", "30", "--answer-timeout", "15", "--result", result_path,
-                    "--linger", "--max-seconds", "90"},
+  ChildProcess hub({RETREAT_SWARM_NODE,
+                    "--role",
+                    "hub",
+                    "--dds",
+                    hub_vendor,
+                    "--profile",
+                    hub_profile,
+                    "--domain",
+                    std::to_string(domain),
+                    "--agents",
+                    std::to_string(agents),
+                    "--match-timeout",
+                    "30",
+                    "--answer-timeout",
+                    "15",
+                    "--result",
+                    result_path,
+                    "--linger",
+                    "--max-seconds",
+                    "90"},
                    dir + "/hub.log", env);
   std::vector<ChildProcess> children;
   for (int i = 0; i < agents; ++i) {
-    children.emplace_back(std::vector<std::string>{RETREAT_SWARM_NODE, "--role", "agent", "--dds", vendor,
-                                                   "--profile", agent_profile, "--domain",
-                                                   std::to_string(domain), "--robot", std::to_string(i),
-                                                   "--max-seconds", "90"},
-                          dir + "/agent_" + std::to_string(i) + ".log", env);
+    children.emplace_back(
+        std::vector<std::string>{RETREAT_SWARM_NODE, "--role", "agent", "--dds", agent_vendor,
+                                 "--profile", agent_profile, "--domain", std::to_string(domain),
+                                 "--robot", std::to_string(i), "--max-seconds", "90"},
+        dir + "/agent_" + std::to_string(i) + ".log", env);
   }
   retreat::testing::eventually([&] { return fs::exists(result_path) || !hub.running(); }, 50s);
   SwarmRun run;
@@ -104,10 +123,17 @@ SwarmRun run_swarm(const std::string& vendor, const std::string& hub_profile,
   for (int i = 0; i < agents; ++i) {
     const auto log = read_file(dir + "/agent_" + std::to_string(i) + ".log");
     std::smatch m;
-    run.agent_participants.push_back(std::regex_search(log, m, participants) ? std::stoi(m[1]) : -1);
+    run.agent_participants.push_back(std::regex_search(log, m, participants) ? std::stoi(m[1])
+                                                                             : -1);
     run.agent_logs.push_back(log);
   }
   return run;
+}
+
+SwarmRun run_swarm(const std::string& vendor, const std::string& hub_profile,
+                   const std::string& agent_profile, int domain, int agents,
+                   const std::vector<std::string>& env = {}) {
+  return run_swarm(vendor, hub_profile, vendor, agent_profile, domain, agents, env);
 }
 
 void expect_everyone_matched_and_answered(const SwarmRun& run, int agents) {
@@ -122,9 +148,9 @@ void expect_everyone_matched_and_answered(const SwarmRun& run, int agents) {
 /// In a star no agent discovers another agent: each sees itself and the hub, nothing else.
 void expect_star(const SwarmRun& run) {
   for (std::size_t i = 0; i < run.agent_participants.size(); ++i) {
-    EXPECT_EQ(run.agent_participants[i], 2) << "agent " << i << " discovered "
-                                            << run.agent_participants[i] << " participants; log:\n"
-                                            << run.agent_logs[i];
+    EXPECT_EQ(run.agent_participants[i], 2)
+        << "agent " << i << " discovered " << run.agent_participants[i] << " participants; log:\n"
+        << run.agent_logs[i];
   }
 }
 
@@ -144,6 +170,23 @@ TEST(CycloneLoopbackProfile, AHubAndThreeAgentsMatchAndExchangeSamples) {
   expect_everyone_matched_and_answered(run, 3);
 }
 
+TEST(LoopbackProfiles, AFastDdsHubAndCycloneAgentsFindEachOther) {
+  REQUIRE_VENDOR("fastdds");
+  REQUIRE_VENDOR("cyclonedds");
+  // A mixed swarm: each process uses its own vendor's loopback profile.
+  const auto run = run_swarm("fastdds", profiles + "fastdds-loopback.xml", "cyclonedds",
+                             profiles + "cyclonedds-loopback.xml", 128, 3);
+  expect_everyone_matched_and_answered(run, 3);
+}
+
+TEST(LoopbackProfiles, ACycloneHubAndFastDdsAgentsFindEachOther) {
+  REQUIRE_VENDOR("fastdds");
+  REQUIRE_VENDOR("cyclonedds");
+  const auto run = run_swarm("cyclonedds", profiles + "cyclonedds-loopback.xml", "fastdds",
+                             profiles + "fastdds-loopback.xml", 129, 3);
+  expect_everyone_matched_and_answered(run, 3);
+}
+
 // ---- one host, star ----------------------------------------------------------------------------
 
 TEST(FastDdsDiscoveryServerStar, ThirtyClientsMatchTheHubAndNeverDiscoverEachOther) {
@@ -156,9 +199,10 @@ TEST(FastDdsDiscoveryServerStar, ThirtyClientsMatchTheHubAndNeverDiscoverEachOth
   const auto client_text = read_file(profiles + "fastdds-discovery-server-client.xml");
   ASSERT_NE(hub_text.find("<port>11811</port>"), std::string::npos);
   ASSERT_NE(client_text.find("<port>11811</port>"), std::string::npos);
-  const auto hub = write_file(dir, "hub.xml", replace_all(hub_text, "<port>11811</port>", "<port>7312</port>"));
-  const auto client =
-      write_file(dir, "client.xml", replace_all(client_text, "<port>11811</port>", "<port>7312</port>"));
+  const auto hub =
+      write_file(dir, "hub.xml", replace_all(hub_text, "<port>11811</port>", "<port>7312</port>"));
+  const auto client = write_file(
+      dir, "client.xml", replace_all(client_text, "<port>11811</port>", "<port>7312</port>"));
   const auto run = run_swarm("fastdds", hub, client, 122, 30);
   expect_everyone_matched_and_answered(run, 30);
   expect_star(run);
@@ -173,7 +217,8 @@ TEST(CycloneStar, ThirtyAgentsMatchTheHubAndNeverDiscoverEachOther) {
   expect_star(run);
 }
 
-// ---- several hosts (exercised on loopback) -------------------------------------------------------
+// ---- several hosts (exercised on loopback)
+// -------------------------------------------------------
 
 TEST(FastDdsMultihostProfile, FilledInWithLoopbackAddressesMatchesAndExchangesSamples) {
   REQUIRE_VENDOR("fastdds");
@@ -183,7 +228,8 @@ TEST(FastDdsMultihostProfile, FilledInWithLoopbackAddressesMatchesAndExchangesSa
     text = replace_all(text, placeholder, "127.0.0.1");
   }
   const auto elements = std::regex_replace(text, std::regex(R"(<!--[\s\S]*?-->)"), "");
-  ASSERT_EQ(elements.find('@'), std::string::npos) << "a placeholder the documentation does not name";
+  ASSERT_EQ(elements.find('@'), std::string::npos)
+      << "a placeholder the documentation does not name";
   const auto filled = write_file(test_dir("_profiles"), "fastdds-multihost-filled.xml", text);
   const auto run = run_swarm("fastdds", filled, filled, 124, 2);
   expect_everyone_matched_and_answered(run, 2);
@@ -225,7 +271,8 @@ TEST(FastDdsProfileFiles, ASecondProfileFileInOneProcessIsRefusedNotSilentlyIgno
     retreat::transport::make_transport("fastdds", options);
     FAIL() << "a second profile file was accepted";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("one profile file per process"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("one profile file per process"), std::string::npos)
+        << e.what();
   }
 }
 
@@ -234,7 +281,8 @@ TEST(FastDdsProfileFiles, ASecondProfileFileInOneProcessIsRefusedNotSilentlyIgno
 std::vector<std::string> all_matches(const std::string& text, const std::string& pattern) {
   std::vector<std::string> out;
   const std::regex re(pattern);
-  for (auto it = std::sregex_iterator(text.begin(), text.end(), re); it != std::sregex_iterator(); ++it) {
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), re); it != std::sregex_iterator();
+       ++it) {
     out.push_back((*it)[1]);
   }
   return out;
@@ -245,10 +293,14 @@ TEST(DdsProfiles, EverySingleHostProfilePinsDdsToLoopbackAndMultihostOnesGuessNo
   for (const auto& e : fs::directory_iterator(profiles)) {
     if (e.path().extension() == ".xml") files.insert(e.path().filename().string());
   }
-  const std::set<std::string> shipped = {
-      "fastdds-loopback.xml",       "fastdds-discovery-server-hub.xml", "fastdds-discovery-server-client.xml",
-      "fastdds-multihost.xml",      "cyclonedds-loopback.xml",          "cyclonedds-star-hub.xml",
-      "cyclonedds-star-agent.xml",  "cyclonedds-multihost.xml"};
+  const std::set<std::string> shipped = {"fastdds-loopback.xml",
+                                         "fastdds-discovery-server-hub.xml",
+                                         "fastdds-discovery-server-client.xml",
+                                         "fastdds-multihost.xml",
+                                         "cyclonedds-loopback.xml",
+                                         "cyclonedds-star-hub.xml",
+                                         "cyclonedds-star-agent.xml",
+                                         "cyclonedds-multihost.xml"};
   // A new profile must be added here, with its checks, and to the tests above.
   EXPECT_EQ(files, shipped);
 
@@ -272,7 +324,8 @@ TEST(DdsProfiles, EverySingleHostProfilePinsDdsToLoopbackAndMultihostOnesGuessNo
       EXPECT_FALSE(addresses.empty());
       for (const auto& a : addresses) {
         if (multihost) {
-          EXPECT_TRUE(std::regex_match(a, std::regex("@[A-Z0-9_]+@"))) << a << ": must be a placeholder";
+          EXPECT_TRUE(std::regex_match(a, std::regex("@[A-Z0-9_]+@")))
+              << a << ": must be a placeholder";
         } else {
           EXPECT_EQ(a, "127.0.0.1");
         }
@@ -283,7 +336,8 @@ TEST(DdsProfiles, EverySingleHostProfilePinsDdsToLoopbackAndMultihostOnesGuessNo
       EXPECT_EQ(xml.find("<NetworkInterfaceAddress"), std::string::npos);
       if (multihost) {
         // No default: an unset variable stops the process instead of picking some interface.
-        EXPECT_TRUE(std::regex_match(interfaces[0], std::regex(R"(\$\{RETREAT_DDS_INTERFACE:\?[^}]+\})")))
+        EXPECT_TRUE(
+            std::regex_match(interfaces[0], std::regex(R"(\$\{RETREAT_DDS_INTERFACE:\?[^}]+\})")))
             << interfaces[0];
       } else {
         EXPECT_EQ(interfaces[0], "lo");

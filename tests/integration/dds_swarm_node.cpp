@@ -2,9 +2,10 @@
 // tests (tests/integration/dds_profiles_test.cpp) and deploy/bench/discovery_scale.sh.
 //
 //   --role agent --robot i : like retreat-agent: user data "retreat:agent:robot=<i>", a reader on
-//                            <prefix>/robot_<i>/proximity and a writer on <prefix>/robot_<i>/decision;
-//                            answers every frame with a decision for the frame's tick. On exit
-//                            prints participants=<number of participants it discovered>.
+//                            <prefix>/robot_<i>/proximity and a writer on
+//                            <prefix>/robot_<i>/decision; answers every frame with a decision for
+//                            the frame's tick. On exit prints participants=<number of participants
+//                            it discovered>.
 //   --role hub --agents N  : like retreat-arena: user data "retreat:arena", for robots
 //                            first..first+N-1 a proximity writer and a decision reader. Waits until
 //                            every one of them is matched, then sends frames (re-sent every second
@@ -20,7 +21,6 @@
 // 2 bad arguments or unusable profile.
 
 #include <CLI/CLI.hpp>
-
 #include <csignal>
 #include <cstdio>
 #include <fstream>
@@ -63,7 +63,8 @@ int run_agent(const Settings& s, Clock::time_point start) {
   options.profile = s.profile;
   auto t = transport::make_transport(s.dds, options);
   const auto q = transport::QosIntent::control();
-  auto frames = t->create_reader<wire::ProximityFrame>({wire::proximity_topic(s.prefix, s.robot), q});
+  auto frames =
+      t->create_reader<wire::ProximityFrame>({wire::proximity_topic(s.prefix, s.robot), q});
   auto decisions = t->create_writer<wire::Decision>({wire::decision_topic(s.prefix, s.robot), q});
   while (stop_requested == 0 && seconds_since(start) < s.max_seconds) {
     t->wait(200ms);
@@ -89,8 +90,10 @@ int run_hub(const Settings& s, Clock::time_point start) {
   std::vector<transport::Writer<wire::ProximityFrame>> frames;
   std::vector<transport::Reader<wire::Decision>> decisions;
   for (std::uint32_t i = 0; i < s.agents; ++i) {
-    frames.push_back(t->create_writer<wire::ProximityFrame>({wire::proximity_topic(s.prefix, s.first + i), q}));
-    decisions.push_back(t->create_reader<wire::Decision>({wire::decision_topic(s.prefix, s.first + i), q}));
+    frames.push_back(
+        t->create_writer<wire::ProximityFrame>({wire::proximity_topic(s.prefix, s.first + i), q}));
+    decisions.push_back(
+        t->create_reader<wire::Decision>({wire::decision_topic(s.prefix, s.first + i), q}));
   }
 
   // Phase 1: discovery. A robot counts as matched when its frame writer and its decision reader
@@ -128,8 +131,8 @@ int run_hub(const Settings& s, Clock::time_point start) {
       if (Clock::now() >= next_send) {
         for (std::size_t i = 0; i < frames.size(); ++i) {
           if (!answered[i]) {
-            frames[i].write({s.first + static_cast<std::uint32_t>(i), tick, 0.1 * static_cast<double>(tick),
-                             wire::Phase::inside, false, 0});
+            frames[i].write({s.first + static_cast<std::uint32_t>(i), tick,
+                             0.1 * static_cast<double>(tick), wire::Phase::inside, false, 0});
           }
         }
         ++tick;
@@ -176,9 +179,12 @@ int main(int argc, char** argv) {
   const auto start = Clock::now();
   Settings s;
   CLI::App app{"retreat DDS swarm node (test and benchmark tool)"};
-  app.add_option("--role", s.role, "hub or agent")->required()->check(CLI::IsMember({"hub", "agent"}));
+  app.add_option("--role", s.role, "hub or agent")
+      ->required()
+      ->check(CLI::IsMember({"hub", "agent"}));
   app.add_option("--dds", s.dds, "fastdds or cyclonedds")->required();
-  app.add_option("--profile", s.profile, "vendor XML profile (empty: the adapter's loopback default)");
+  app.add_option("--profile", s.profile,
+                 "vendor XML profile (empty: the adapter's loopback default)");
   app.add_option("--domain", s.domain, "DDS domain id")->required();
   app.add_option("--prefix", s.prefix, "topic prefix");
   app.add_option("--robot", s.robot, "agent: robot id");

@@ -1,0 +1,134 @@
+// The in-memory transport's QoS matching rules, which mirror the DDS rules retreat relies on
+// (idl/transport/include/retreat/transport/inmemory.hpp): same topic and type; a best-effort
+// writer does not match a reliable reader; a volatile writer does not match a transient-local
+// reader; transient-local writers replay the last `depth` samples per instance to late readers.
+
+#include <gtest/gtest.h>
+
+#include "retreat/transport/inmemory.hpp"
+
+namespace retreat::transport {
+namespace {
+
+using namespace std::chrono_literals;
+
+constexpr QosIntent reliable_volatile{Reliability::reliable, Durability::volatile_data, 0};
+constexpr QosIntent best_effort_volatile{Reliability::best_effort, Durability::volatile_data, 0};
+constexpr QosIntent reliable_transient{Reliability::reliable, Durability::transient_local, 1};
+constexpr QosIntent best_effort_transient{Reliability::best_effort, Durability::transient_local, 1};
+
+class InMemoryQos : public ::testing::Test {
+ protected:
+  std::shared_ptr<InMemoryBus> bus_ = make_inmemory_bus();
+  std::unique_ptr<Transport> a_ = make_inmemory_transport(bus_, {0, "a", "retreat:test:a", ""});
+  std::unique_ptr<Transport> b_ = make_inmemory_transport(bus_, {0, "b", "retreat:test:b", ""});
+
+  /// Whether a writer with `w` and a reader with `r` on one topic match, and whether a sample
+  /// written after both exist arrives.
+  bool matches(QosIntent w, QosIntent r) {
+    const std::string topic = "t/robot_1/proximity";
+    auto writer = a_->create_writer<wire::ProximityFrame>({topic, w});
+    auto reader = b_->create_reader<wire::ProximityFrame>({topic, r});
+    const bool matched = writer.matched_count() == 1 && reader.matched_count() == 1;
+    EXPECT_EQ(writer.write({1, 0, 0.0, wire::Phase::inside, false, 0}), WriteResult::ok);
+    const bool delivered = reader.take().size() == 1;
+    EXPECT_EQ(matched, delivered) << "a match must mean delivery and no match no delivery";
+    return matched && delivered;
+  }
+};
+
+TEST_F(InMemoryQos, TheIntentsOfTheProtocolAreWhatTheDocumentationSays) {
+  EXPECT_EQ(QosIntent::control(), reliable_volatile);
+  EXPECT_EQ(QosIntent::state(), reliable_transient);
+}
+
+TEST_F(InMemoryQos, ReliableWriterMatchesReliableAndBestEffortReaders) {
+  EXPECT_TRUE(matches(reliable_volatile, reliable_volatile));
+  EXPECT_TRUE(matches(reliable_volatile, best_effort_volatile));
+}
+
+TEST_F(InMemoryQos, BestEffortWriterDoesNotMatchAReliableReader) {
+  EXPECT_FALSE(matches(best_effort_volatile, reliable_volatile));
+  EXPECT_TRUE(matches(best_effort_volatile, best_effort_volatile));
+}
+
+TEST_F(InMemoryQos, VolatileWriterDoesNotMatchATransientLocalReader) {
+  EXPECT_FALSE(matches(reliable_volatile, reliable_transient));
+  EXPECT_TRUE(matches(reliable_transient, reliable_volatile));
+  EXPECT_TRUE(matches(reliable_transient, reliable_transient));
+}
+
+TEST_F(InMemoryQos, BothRulesApplyTogether) {
+  EXPECT_FALSE(matches(best_effort_transient, reliable_transient));
+  EXPECT_TRUE(matches(best_effort_transient, best_effort_transient));
+  EXPECT_FALSE(matches(best_effort_volatile, best_effort_transient));
+}
+
+TEST_F(InMemoryQos, SameTopicNameWithAnotherTypeDoesNotMatch) {
+  auto writer = a_->create_writer<wire::Decision>({"t/robot_1/x", QosIntent::control()});
+  auto reader = b_->create_reader<wire::ProximityFrame>({"t/robot_1/x", QosIntent::control()});
+  EXPECT_EQ(writer.matched_count(), 0u);
+  EXPECT_EQ(reader.matched_count(), 0u);
+  EXPECT_EQ(writer.write({1, 0, 0.0, false}), WriteResult::ok);
+  EXPECT_TRUE(reader.take().empty());
+}
+
+TEST_F(InMemoryQos, AnotherTopicNameDoesNotMatch) {
+  auto writer =
+      a_->create_writer<wire::ProximityFrame>({"t/robot_1/proximity", QosIntent::control()});
+  auto reader =
+      b_->create_reader<wire::ProximityFrame>({"t/robot_2/proximity", QosIntent::control()});
+  EXPECT_EQ(writer.matched_count(), 0u);
+  EXPECT_EQ(reader.matched_count(), 0u);
+}
+
+TEST_F(InMemoryQos, ALateTransientLocalReaderGetsTheLastDepthSamplesOfEveryInstance) {
+  auto writer = a_->create_writer<wire::AgentStatus>(
+      {"t/agent_status", {Reliability::reliable, Durability::transient_local, 2}});
+  for (std::uint32_t robot = 1; robot <= 3; ++robot) {
+    for (std::int64_t tick = 0; tick < 5; ++tick) {
+      wire::AgentStatus s;
+      s.robot_id = robot;
+      s.tick = tick;
+      ASSERT_EQ(writer.write(s), WriteResult::ok);
+    }
+  }
+  auto reader = b_->create_reader<wire::AgentStatus>({"t/agent_status", QosIntent::state()});
+  const auto got = reader.take();
+  ASSERT_EQ(got.size(), 6u);  // 3 instances x depth 2
+  for (const auto& s : got) EXPECT_GE(s.tick, 3) << "robot " << s.robot_id;
+}
+
+TEST_F(InMemoryQos, ALateVolatileReaderGetsNothingThatWasWrittenBefore) {
+  auto writer = a_->create_writer<wire::AgentStatus>({"t/agent_status", QosIntent::state()});
+  ASSERT_EQ(writer.write({}), WriteResult::ok);
+  auto reader = b_->create_reader<wire::AgentStatus>(
+      {"t/agent_status", {Reliability::reliable, Durability::volatile_data, 1}});
+  EXPECT_EQ(reader.matched_count(), 1u);
+  EXPECT_TRUE(reader.take().empty());
+}
+
+TEST_F(InMemoryQos, ADroppedWriterIsNoLongerMatched) {
+  auto reader =
+      b_->create_reader<wire::ProximityFrame>({"t/robot_1/proximity", QosIntent::control()});
+  {
+    auto writer =
+        a_->create_writer<wire::ProximityFrame>({"t/robot_1/proximity", QosIntent::control()});
+    EXPECT_EQ(reader.matched_count(), 1u);
+  }
+  EXPECT_EQ(reader.matched_count(), 0u);
+}
+
+TEST_F(InMemoryQos, MatchedEndpointsNameTheRemoteParticipant) {
+  auto writer =
+      a_->create_writer<wire::ProximityFrame>({"t/robot_1/proximity", QosIntent::control()});
+  auto reader =
+      b_->create_reader<wire::ProximityFrame>({"t/robot_1/proximity", QosIntent::control()});
+  ASSERT_EQ(reader.matched().size(), 1u);
+  EXPECT_EQ(reader.matched()[0].participant_guid, a_->guid());
+  ASSERT_EQ(writer.matched().size(), 1u);
+  EXPECT_EQ(writer.matched()[0].participant_guid, b_->guid());
+}
+
+}  // namespace
+}  // namespace retreat::transport
