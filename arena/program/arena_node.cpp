@@ -131,8 +131,7 @@ void ArenaNode::publish_observations() {
   poses_.write(poses);
 }
 
-void ArenaNode::take_decisions(Robot& r) {
-  const auto current = tick();
+void ArenaNode::take_decisions(Robot& r, std::int64_t current) {
   for (const auto& d : r.decisions.take()) {
     if (r.phase == wire::Phase::departed) continue;  // the answer to its last frame: nothing to do
     if (d.robot_id >= world_->robot_count()) {
@@ -150,8 +149,6 @@ void ArenaNode::take_decisions(Robot& r) {
       r.retreat = r.retreat || d.retreat;
     }
   }
-  counters_.invalid = 0;
-  for (const auto& [id, other] : robots_) counters_.invalid += other->decisions.stats().dropped_total();
 }
 
 bool ArenaNode::all_answered() const {
@@ -162,7 +159,11 @@ bool ArenaNode::all_answered() const {
 }
 
 void ArenaNode::collect_available() {
-  for (auto& [id, r] : robots_) take_decisions(*r);
+  // Once per call, not per robot: tick() and the recount are O(robots) each.
+  const auto current = tick();
+  for (auto& [id, r] : robots_) take_decisions(*r, current);
+  counters_.invalid = 0;
+  for (const auto& [id, r] : robots_) counters_.invalid += r->decisions.stats().dropped_total();
 }
 
 bool ArenaNode::collect_lockstep(const KeepGoing& keep_going) {

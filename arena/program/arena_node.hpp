@@ -76,7 +76,7 @@ class ArenaNode {
  private:
   struct Robot;
   Robot& robot(std::uint32_t id);
-  void take_decisions(Robot& r);
+  void take_decisions(Robot& r, std::int64_t current);
   void resend_unanswered();
   void publish_observations();
 

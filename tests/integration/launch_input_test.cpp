@@ -13,7 +13,8 @@
 namespace retreat::launch_test {
 namespace {
 
-// Domain ids of this file: 169 (held by the test itself).
+// Domain ids of this file: 169 (held by the test itself); 229 named in refused launches (never
+// joined: the launcher refuses before it takes a domain).
 constexpr int domain_held = 169;
 
 void expect_refused(const std::string& name, const std::vector<std::string>& args) {
@@ -39,8 +40,6 @@ TEST(LaunchInput, BadInputIsRefusedWithExitCodeTwoAndNothingStarted) {
   expect_refused("realtime-in-process", {robotarium, "--in-process", "--set", "run.mode=realtime"});
   expect_refused("unknown-option", {robotarium, "--frobnicate"});
   expect_refused("missing-programs", {robotarium, "--bin-dir", "/nonexistent", "--domain", "229"});
-  expect_refused("endless-lockstep-processes",
-                 {scenarios + "/steady-influx.yaml", "--domain", "229", "--set", "run.mode=lockstep"});
 }
 
 TEST(LaunchInput, ADomainInUseByAnotherLaunchIsRefused) {

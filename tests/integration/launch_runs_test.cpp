@@ -4,17 +4,22 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include "launch_support.hpp"
 
 namespace retreat::launch_test {
 namespace {
 
-// Domain ids of this file: 160..163, 168.
+// Domain ids of this file: 160..163, 168, 171, 172, 174.
 constexpr int domain_fastdds = 160;
 constexpr int domain_cyclonedds = 161;
 constexpr int domain_mixed = 162;
 constexpr int domain_kinetic = 163;
 constexpr int domain_realtime = 168;
+constexpr int domain_endless = 171;
+constexpr int domain_bridge = 172;
+constexpr int domain_seed = 174;
 
 std::vector<std::string> args(std::vector<std::string> head, const std::vector<std::string>& tail) {
   head.insert(head.end(), tail.begin(), tail.end());
@@ -60,6 +65,8 @@ TEST(LaunchRuns, RobotariumGivesOneTrajectoryOverFastDdsCycloneDdsMixedAndInProc
   EXPECT_EQ(jf["trajectory_sha256"], jc["trajectory_sha256"]);
   EXPECT_EQ(jf["trajectory_sha256"], jm["trajectory_sha256"]);
   EXPECT_EQ(jf["trajectory_sha256"], ji["trajectory_sha256"]);
+  // The hashes compare decisions, not only phases: robots did retreat.
+  EXPECT_GT(jf["agents"]["retreated"].get<int>(), 0);
 
   // Mixed: agents alternate vendors, the arena takes the other vendor from agent 0.
   EXPECT_EQ(jm["launch"]["arena_vendor"], "cyclonedds");
@@ -78,9 +85,8 @@ TEST(LaunchRuns, RobotariumGivesOneTrajectoryOverFastDdsCycloneDdsMixedAndInProc
   EXPECT_TRUE(alive(child_pids(processes)).empty());
 }
 
-// The physical robotarium world of this build rarely makes decisions within 400 s, so this run
-// also checks a trajectory that contains retreat decisions: the same 12 robots in the kinetic
-// world (robots retreat from about t = 90 s on), mixed vendors against in-process.
+// The same 12 robots in the kinetic world (the other world implementation; robots retreat from
+// about t = 90 s on): mixed vendors against in-process.
 TEST(LaunchRuns, KineticRobotariumWithRetreatsGivesOneTrajectoryMixedAndInProcess) {
   if (!built("fastdds") || !built("cyclonedds")) GTEST_SKIP() << "needs both vendors";
   const std::vector<std::string> kinetic = args(short_robotarium, {"--set", "arena.encounter_model=kinetic"});
@@ -130,9 +136,29 @@ TEST(LaunchRuns, SeedsRunOneByOneAndADifferentSeedGivesADifferentTrajectory) {
   // Seed 2 alone, in processes, is seed 2 of the sweep.
   if (!built("cyclonedds")) return;
   const auto one = fresh_dir("seed-2-cyclonedds");
-  ASSERT_EQ(run_launch(one, args({robotarium, "--dds", "cyclonedds", "--domain", std::to_string(domain_kinetic),
+  ASSERT_EQ(run_launch(one, args({robotarium, "--dds", "cyclonedds", "--domain", std::to_string(domain_seed),
                                   "--seed", "2"}, kinetic)), 0) << log_of(one);
   EXPECT_EQ(read_json(one + "/run/summary.json")["trajectory_sha256"], hashes[1]);
+}
+
+TEST(LaunchRuns, AnEndlessQueueStartsAgentsAsRobotsJoinAndGivesTheInProcessTrajectory) {
+  const std::string vendor = built("cyclonedds") ? "cyclonedds" : "fastdds";
+  // steady-influx shortened to 300 simulated seconds: 8 robots inside, 2 waiting, and a new robot
+  // joining the queue every 16.6 s (ids 10, 11, ... appear as robots enter).
+  const std::vector<std::string> short_influx = {scenarios + "/steady-influx.yaml", "--set", "run.duration=300"};
+  const auto processes = fresh_dir("endless-processes");
+  ASSERT_EQ(run_launch(processes, args(short_influx, {"--dds", vendor, "--domain", std::to_string(domain_endless)})), 0)
+      << log_of(processes);
+  const auto in_process = fresh_dir("endless-in-process");
+  ASSERT_EQ(run_launch(in_process, args(short_influx, {"--in-process"})), 0) << log_of(in_process);
+  const auto jp = read_json(processes + "/run/summary.json");
+  const auto ji = read_json(in_process + "/run/summary.json");
+  ASSERT_FALSE(jp.empty() || ji.empty());
+  EXPECT_EQ(jp["agents"]["lost"], 0);
+  // More robots than at the start had an agent: 10 at t = 0, one more per arrival.
+  EXPECT_GT(ji["agents"]["started"].get<int>(), 10);
+  EXPECT_GE(jp["agents"]["started"].get<int>(), ji["agents"]["started"].get<int>());
+  EXPECT_EQ(jp["trajectory_sha256"], ji["trajectory_sha256"]);
 }
 
 TEST(LaunchRuns, RealTimeModePassesThrough) {
@@ -149,6 +175,22 @@ TEST(LaunchRuns, RealTimeModePassesThrough) {
   EXPECT_LE(j["ticks"].get<int>(), 101);
   EXPECT_EQ(j["agents"]["started"], 12);
   EXPECT_EQ(j["agents"]["lost"], 0);
+}
+
+TEST(LaunchRuns, TheBridgeIsStartedBesideTheSwarmAndStoppedAfterIt) {
+  if (::access(bridge_program.c_str(), X_OK) != 0) GTEST_SKIP() << "retreat-bridge is not built";
+  const std::string vendor = built("cyclonedds") ? "cyclonedds" : "fastdds";
+  const auto dir = fresh_dir("bridge");
+  ASSERT_EQ(run_launch(dir, {robotarium, "--dds", vendor, "--domain", std::to_string(domain_bridge),
+                             "--set", "run.duration=100", "--set", "bridge.http=127.0.0.1:0"},
+                       90s, /*bridge=*/true), 0) << log_of(dir);
+  const auto j = read_json(dir + "/run/summary.json");
+  ASSERT_FALSE(j.empty());
+  EXPECT_EQ(j["launch"]["bridge"], true);
+  const auto processes = read_json(dir + "/run/processes.json");
+  ASSERT_FALSE(processes["bridge"].is_null());
+  EXPECT_TRUE(alive(child_pids(processes)).empty());
+  EXPECT_TRUE(std::filesystem::exists(dir + "/run/logs/bridge.log"));
 }
 
 }  // namespace

@@ -25,6 +25,9 @@ using namespace std::chrono_literals;
 using nlohmann::json;
 
 inline const std::string launcher = RETREAT_LAUNCH_BIN;
+/// Where the launcher looks for the bridge (a link into the build tree, present once built).
+inline const std::string bridge_program =
+    std::filesystem::path(RETREAT_LAUNCH_BIN).parent_path().string() + "/retreat-bridge";
 inline const std::string scenarios = RETREAT_SCENARIOS;
 inline const std::string robotarium = scenarios + "/robotarium-2019.yaml";
 
@@ -48,9 +51,12 @@ struct Launch {
   testing::ChildProcess process;
 };
 
-inline Launch start_launch(const std::string& dir, std::vector<std::string> args) {
+/// Without `bridge`, --no-bridge: a bridge serves HTTP (bridge.http), which tests running in
+/// parallel cannot share; the bridge test gives it a free port.
+inline Launch start_launch(const std::string& dir, std::vector<std::string> args, bool bridge = false) {
   std::vector<std::string> argv = {launcher};
   argv.insert(argv.end(), args.begin(), args.end());
+  if (!bridge) argv.push_back("--no-bridge");
   const std::string out = dir + "/run";
   argv.push_back("--out");
   argv.push_back(out);
@@ -59,8 +65,8 @@ inline Launch start_launch(const std::string& dir, std::vector<std::string> args
 
 /// Runs the launcher to its end; returns its exit code (-1 if it did not end in `timeout`).
 inline int run_launch(const std::string& dir, const std::vector<std::string>& args,
-                      std::chrono::milliseconds timeout = 90s) {
-  auto l = start_launch(dir, args);
+                      std::chrono::milliseconds timeout = 90s, bool bridge = false) {
+  auto l = start_launch(dir, args, bridge);
   const auto code = l.process.wait_for(timeout);
   if (!code) {
     l.process.stop();

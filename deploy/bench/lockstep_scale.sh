@@ -1,0 +1,127 @@
+#!/usr/bin/env bash
+# Lockstep scale benchmark: retreat-launch runs an arena and N retreat-agent processes on this
+# host, per vendor, and reports
+#   * ticks/s: lockstep ticks per wall second (summary.json ticks_per_second: every tick is one
+#     round of N proximity frames out and N decisions back);
+#   * start-up: seconds from the launch until the arena published tick 0, i.e. until it had
+#     matched every agent (summary.json launch.seconds_to_first_tick);
+#   * memory per agent process: VmRSS and PSS (shared pages divided among the processes mapping
+#     them), the largest value seen while the run went on, mean over the agents.
+#
+# The world: the kinetic one (no positions, so any N fits), a square of N / 1.5 m^2 (density
+# near λ* of the paper's parameters), all N robots inside, agent.K_p = agent.lambda_in = 0 (ε ≡ 0:
+# nobody retreats, so all N agents answer every tick), run.duration simulated seconds.
+# DDS discovery: the adapters' built-in loopback settings up to 50 agents; from 100 on the star
+# of deploy/dds (Fast DDS Discovery Server with the arena as the server; Cyclone star hub/agent),
+# as docs/dds-profiles.md recommends: simple discovery does not converge at 200.
+#
+# Usage:
+#   deploy/bench/lockstep_scale.sh [--agents "12 50 100 200"] [--vendors "fastdds cyclonedds"]
+#       [--duration S] [--domain ID] [--out DIR] [--launcher PATH]
+#   --launcher PATH   retreat-launch (default: $RETREAT_BUILD_DIR/deploy/launch/retreat-launch,
+#                     RETREAT_BUILD_DIR defaulting to ./build)
+#   --domain ID       DDS domain id of the runs (default 150)
+#   --duration S      simulated seconds per run (default 60: 2,000 ticks)
+#
+# Output: one line per run on stdout (also DIR/results.txt); the run directories stay in DIR.
+# Every process is started and stopped by retreat-launch (by PID); this script only reads
+# /proc of the PIDs listed in processes.json. DDS stays on loopback (built-in settings and the
+# single-host star profiles pin it to 127.0.0.1 / lo).
+set -euo pipefail
+
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+root=$(cd "$here/../.." && pwd)
+build=${RETREAT_BUILD_DIR:-$root/build}
+launcher="$build/deploy/launch/retreat-launch"
+agents_list="12 50 100 200"
+vendors="fastdds cyclonedds"
+duration=60
+domain=150
+out=""
+
+usage() { sed -n '2,/^set -euo/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//'; }
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --agents) agents_list=$2; shift 2 ;;
+    --vendors) vendors=$2; shift 2 ;;
+    --duration) duration=$2; shift 2 ;;
+    --domain) domain=$2; shift 2 ;;
+    --out) out=$2; shift 2 ;;
+    --launcher) launcher=$2; shift 2 ;;
+    -h|--help) usage; exit 0 ;;
+    *) echo "lockstep_scale.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
+  esac
+done
+[ -x "$launcher" ] || { echo "lockstep_scale.sh: no retreat-launch at '$launcher' (--launcher PATH)" >&2; exit 2; }
+out=${out:-$(mktemp -d /tmp/retreat-lockstep-scale.XXXXXX)}
+mkdir -p "$out"
+results="$out/results.txt"
+: > "$results"
+
+# Largest VmRSS and Pss (kB) of each PID in $@ so far, kept in the files $out/.rss.<pid>.
+sample_memory() {
+  for pid in "$@"; do
+    [ -r "/proc/$pid/status" ] || continue
+    rss=$(awk '/^VmRSS:/ {print $2}' "/proc/$pid/status" 2>/dev/null || true)
+    pss=$(awk '/^Pss:/ {print $2}' "/proc/$pid/smaps_rollup" 2>/dev/null || true)
+    [ -n "$rss" ] || continue
+    prev_rss=0 prev_pss=0
+    [ -r "$out/.rss.$pid" ] && read -r prev_rss prev_pss < "$out/.rss.$pid"
+    pss=${pss:-0}
+    echo "$(( rss > prev_rss ? rss : prev_rss )) $(( pss > prev_pss ? pss : prev_pss ))" > "$out/.rss.$pid"
+  done
+}
+
+for vendor in $vendors; do
+  for n in $agents_list; do
+    run="$out/${vendor}_$n"
+    rm -rf "$run" "$out"/.rss.*
+    side=$(python3 -c "import math; print(round(math.sqrt($n / 1.5), 3))")
+    profile_args=()
+    if [ "$n" -ge 100 ]; then
+      if [ "$vendor" = fastdds ]; then
+        profile_args=(--set "dds.profile=$root/deploy/dds/fastdds-discovery-server-client.xml"
+                      --arena-profile "$root/deploy/dds/fastdds-discovery-server-hub.xml")
+      else
+        profile_args=(--set "dds.profile=$root/deploy/dds/cyclonedds-star-agent.xml"
+                      --arena-profile "$root/deploy/dds/cyclonedds-star-hub.xml")
+      fi
+    fi
+    "$launcher" "$root/deploy/scenarios/robotarium-2019.yaml" --dds "$vendor" --domain "$domain" \
+      --no-bridge --out "$run" \
+      --set arena.encounter_model=kinetic --set arena.shape=rectangle \
+      --set arena.width="$side" --set arena.height="$side" \
+      --set arena.robots_inside="$n" --set arena.robots_waiting=0 --set arena.queue=finite \
+      --set agent.K_p=0 --set agent.lambda_in=0 --set run.duration="$duration" \
+      --set run.startup_timeout=240 --set run.agent_timeout=10 \
+      "${profile_args[@]}" > "$out/${vendor}_$n.log" 2>&1 &
+    launch_pid=$!
+    while kill -0 "$launch_pid" 2>/dev/null; do
+      if [ -r "$run/processes.json" ]; then
+        # shellcheck disable=SC2046
+        sample_memory $(python3 -c "import json,sys; print(' '.join(str(a['pid']) for a in json.load(open(sys.argv[1]))['agents']))" "$run/processes.json" 2>/dev/null)
+      fi
+      sleep 0.5
+    done
+    code=0
+    wait "$launch_pid" || code=$?
+    mem=$(cat "$out"/.rss.* 2>/dev/null | awk '{r += $1; p += $2; k++} END {if (k) printf "%.1f %.1f", r / k / 1024, p / k / 1024; else print "- -"}')
+    line=$(python3 - "$run/summary.json" "$vendor" "$n" "$code" $mem <<'EOF'
+import json, sys
+path, vendor, n, code, rss, pss = sys.argv[1:7]
+try:
+    j = json.load(open(path))
+except Exception:
+    print(f"vendor={vendor} agents={n} exit={code} no summary.json")
+    sys.exit(0)
+l = j.get("launch", {})
+print(f"vendor={vendor} agents={n} exit={code} ticks={j['ticks']} ticks_per_second={j['ticks_per_second']:.0f} "
+      f"startup_s={l.get('seconds_to_first_tick', -1):.2f} matched={j['agents'].get('matched')} "
+      f"lost={j['agents']['lost']} agent_rss_mib={rss} agent_pss_mib={pss} wall_s={l.get('wall_seconds', 0):.1f}")
+EOF
+)
+    echo "$line" | tee -a "$results"
+  done
+done
+rm -f "$out"/.rss.*
+echo "results: $results"

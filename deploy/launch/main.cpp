@@ -1,0 +1,211 @@
+// retreat-launch: runs a scenario as a swarm on one machine: one retreat-arena, one
+// retreat-agent per robot and the retreat-bridge (when built), each its own process and DDS
+// participant; or all of it in this one process over the in-memory transport (--in-process).
+//
+// Reads:  SCENARIO.yaml (and each --set); in process mode <prefix>/arena_telemetry (its own
+//         participant, the arena's vendor; for the progress line only).
+// Writes: the run directory OUT (default runs/<timestamp>), or OUT/seed_<n>/ per seed with
+//         --seeds A:B plus OUT/seeds_summary.json:
+//           logs/arena.log, logs/agent_<id>.log, logs/bridge.log   (process mode)
+//           processes.json   (PIDs, vendors and logs of the children; process mode)
+//           scenario.yaml, telemetry.csv, agents.csv, summary.json  (by the arena, or in-process)
+//           summary.json gains dds, agents.started, agents.matched and launch.* from the launcher.
+//         /tmp/retreat-domain-<id>.lock, held (flock) while a process-mode run uses domain <id>.
+//
+// Exit codes: 0 every run completed; 1 a run failed (the arena failed or left no summary);
+// 2 bad input (nothing was started); 128 + signal when SIGINT/SIGTERM/SIGHUP stopped it (every
+// child is stopped first, and the summary updated when the arena wrote one).
+
+#include <CLI/CLI.hpp>
+
+#include <unistd.h>
+
+#include <csignal>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <iostream>
+
+#include "domain_lock.hpp"
+#include "options.hpp"
+#include "retreat/scenario/program_options.hpp"
+#include "run.hpp"
+#include "summary.hpp"
+
+namespace retreat::launch {
+std::atomic<int> stop_signal{0};
+}  // namespace retreat::launch
+
+namespace {
+
+using namespace retreat;
+
+extern "C" void on_signal(int signo) { launch::stop_signal.store(signo); }
+
+/// Domains a launcher picks by itself (tests use 160..229; 0 is every tool's default).
+constexpr int first_free_domain = 1;
+constexpr int last_free_domain = 99;
+
+std::string self_dir() {
+  std::error_code ec;
+  const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  return ec ? std::string(".") : exe.parent_path().string();
+}
+
+std::string default_out_dir() {
+  const std::time_t now = std::time(nullptr);
+  std::tm local{};
+  localtime_r(&now, &local);
+  char stamp[32];
+  std::strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S", &local);
+  std::string dir = std::string("runs/") + stamp;
+  for (int n = 2; std::filesystem::exists(dir); ++n) dir = std::string("runs/") + stamp + "-" + std::to_string(n);
+  return dir;
+}
+
+void install_signal_handlers() {
+  struct sigaction sa {};
+  sa.sa_handler = on_signal;
+  sigemptyset(&sa.sa_mask);
+  sa.sa_flags = 0;  // no SA_RESTART: sleeps and waits return early
+  for (int s : {SIGINT, SIGTERM, SIGHUP}) sigaction(s, &sa, nullptr);
+}
+
+void report(const nlohmann::json& j, const std::string& dir) {
+  const auto hash = j.value("trajectory_sha256", std::string());
+  std::fprintf(stderr,
+               "retreat-launch: %s seed %llu done: %lld ticks in %.1f s (%.0f ticks/s), population "
+               "%d (mean of the last 300 s %.2f, optimum %.2f), %d agents lost, %lld deliveries, "
+               "trajectory %s; %s/summary.json\n",
+               j.value("scenario", std::string()).c_str(),
+               static_cast<unsigned long long>(j.value("seed", 0ull)), j.value("ticks", 0ll),
+               j.value("wall_seconds", 0.0), j.value("ticks_per_second", 0.0),
+               j.value(nlohmann::json::json_pointer("/population/final"), 0),
+               j.value(nlohmann::json::json_pointer("/population/mean_last_300s"), 0.0),
+               j.value("optimal_population", 0.0),
+               j.value(nlohmann::json::json_pointer("/agents/lost"), 0),
+               j.value("deliveries", 0ll), hash.substr(0, 16).c_str(), dir.c_str());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"retreat-launch: runs a voluntary-retreat swarm (arena, one agent process per "
+               "robot, bridge) on this machine, or in one process"};
+  scenario::CommonOptions common;  // SCENARIO --dds --domain --set --print-config
+  scenario::add_common_options(app, common, /*positional_scenario=*/true);
+  app.get_option("--dds")->description(
+      "fastdds, cyclonedds, or mixed (agents alternate vendors, the arena uses cyclonedds); "
+      "default: the scenario's dds.vendor");
+  app.get_option("--domain")->description("DDS domain id 0..232 (default: a free one in 1..99)");
+  launch::LaunchOptions o;
+  std::uint64_t seed = 0;
+  app.add_option("--out", o.out_dir, "run directory (default: runs/<timestamp>)");
+  auto* seed_opt = app.add_option("--seed", seed, "scenario seed (overrides the file's)");
+  app.add_option("--seeds", o.seeds, "run seeds A..B (inclusive) into OUT/seed_<n>/");
+  app.add_flag("--no-bridge", o.no_bridge, "do not start retreat-bridge");
+  app.add_flag("--in-process", o.in_process,
+               "arena and agents in this process over the in-memory transport (lockstep)");
+  app.add_option("--arena-profile", o.arena_profile,
+                 "DDS profile for the arena only, the hub of a star (deploy/dds/*-hub.xml); every "
+                 "other process uses dds.profile");
+  app.add_option("--bin-dir", o.bin_dir, "where retreat-arena, retreat-agent and retreat-bridge "
+                                         "are (default: next to retreat-launch)");
+  if (const auto code = scenario::parse_command_line(app, argc, argv, "retreat-launch")) return *code;
+  o.scenario_path = common.scenario_path;
+  o.dds = common.dds;
+  o.overrides = common.overrides;
+  if (app.count("--domain") > 0) o.domain = common.domain;
+  if (seed_opt->count() > 0) o.seed = seed;
+
+  // Everything is validated before anything is started or written.
+  launch::Plan plan;
+  try {
+    plan = launch::make_plan(o, self_dir());
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "retreat-launch: %s\n", e.what());
+    return 2;
+  }
+  if (common.print_config) {
+    std::cout << scenario::dump(plan.scenario);
+    return 0;
+  }
+  std::optional<launch::DomainLock> lock;
+  if (!o.in_process) {
+    if (plan.domain) {
+      lock = launch::DomainLock::try_lock(*plan.domain);
+      if (!lock) {
+        std::fprintf(stderr, "retreat-launch: --domain %d: another retreat-launch run on this host "
+                             "uses it (%s is locked); pick another\n",
+                     *plan.domain, launch::DomainLock::path(*plan.domain).c_str());
+        return 2;
+      }
+    } else {
+      try {
+        lock = launch::DomainLock::pick_free(first_free_domain, last_free_domain);
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "retreat-launch: %s\n", e.what());
+        return 2;
+      }
+    }
+  }
+  install_signal_handlers();
+  const std::string out = o.out_dir.empty() ? default_out_dir() : o.out_dir;
+
+  if (!o.in_process) {
+    std::uint32_t n = plan.scenario.arena.robots_inside + plan.scenario.arena.robots_waiting;
+    std::fprintf(stderr, "retreat-launch: %s: retreat-arena (%s) and %u retreat-agent processes "
+                         "(%s)%s on DDS domain %d; run directory %s\n",
+                 plan.scenario.name.c_str(), plan.vendors.arena.c_str(), n, plan.vendors.label.c_str(),
+                 plan.endless ? " plus one per robot that joins the queue" : "", lock->domain(),
+                 out.c_str());
+    if (!plan.bridge_exe.empty()) {
+      const auto& http = plan.scenario.bridge.http;
+      std::fprintf(stderr, "retreat-launch: retreat-bridge serves the dashboard on %s (logs/bridge.log "
+                           "names the port when bridge.http asks for a free one) and writes report.html\n",
+                   (http.ends_with(":0") ? http : "http://" + http + "/").c_str());
+    }
+    if (plan.bridge_missing) {
+      std::fprintf(stderr, "retreat-launch: no bridge is built (no retreat-bridge beside "
+                           "retreat-arena); running without it (--no-bridge: quietly)\n");
+    }
+  }
+
+  std::vector<nlohmann::json> summaries;
+  try {
+    for (const auto seed_n : plan.seeds) {
+      const std::string dir = plan.multi_seed ? out + "/seed_" + std::to_string(seed_n) : out;
+      const auto result = o.in_process ? launch::run_in_process(plan, seed_n, dir)
+                                       : launch::run_processes(plan, seed_n, dir, lock->domain());
+      if (!result.summary.is_null()) {
+        report(result.summary, dir);
+        summaries.push_back(result.summary);
+      }
+      if (result.stopped) {
+        const int signo = launch::stop_signal.load();
+        std::fprintf(stderr, "retreat-launch: stopped by signal %d%s\n", signo,
+                     o.in_process ? "" : "; every child stopped");
+        return 128 + signo;
+      }
+    }
+    if (plan.multi_seed) {
+      const auto j = launch::write_seeds_summary(out, summaries);
+      std::fprintf(stderr, "retreat-launch: %zu seeds: population mean of the last 300 s %.2f ± %.2f "
+                           "(std over seeds); %s/seeds_summary.json\n",
+                   summaries.size(),
+                   j.value(nlohmann::json::json_pointer("/population/mean_last_300s/mean"), 0.0),
+                   j.value(nlohmann::json::json_pointer("/population/mean_last_300s/std"), 0.0),
+                   out.c_str());
+    }
+  } catch (const launch::RunFailure& e) {
+    std::fprintf(stderr, "retreat-launch: run failed: %s\n", e.what());
+    return 1;
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "retreat-launch: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "retreat-launch: run failed: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

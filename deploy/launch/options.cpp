@@ -1,0 +1,170 @@
+#include "options.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <charconv>
+#include <filesystem>
+
+#include "retreat/transport/factory.hpp"
+#include "retreat/transport/transport.hpp"
+
+namespace retreat::launch {
+namespace {
+
+bool parse_u64(const std::string& text, std::uint64_t& value) {
+  const char* first = text.data();
+  const char* last = first + text.size();
+  const auto [end, error] = std::from_chars(first, last, value);
+  return error == std::errc() && end == last && first != last;
+}
+
+std::string join(const std::vector<std::string>& items) {
+  std::string out;
+  for (const auto& i : items) out += (out.empty() ? "" : ", ") + i;
+  return out;
+}
+
+bool executable(const std::string& path) { return ::access(path.c_str(), X_OK) == 0; }
+
+bool sets_key(const std::vector<std::string>& overrides, const std::string& key) {
+  return std::any_of(overrides.begin(), overrides.end(),
+                     [&](const std::string& o) { return o.rfind(key + "=", 0) == 0; });
+}
+
+}  // namespace
+
+SeedRange parse_seed_range(const std::string& text) {
+  const auto colon = text.find(':');
+  SeedRange r;
+  if (colon == std::string::npos || !parse_u64(text.substr(0, colon), r.first) ||
+      !parse_u64(text.substr(colon + 1), r.last) || r.first > r.last) {
+    throw UsageError("--seeds '" + text + "': must be A:B with whole numbers 0 <= A <= B");
+  }
+  if (r.last - r.first >= 100000) {
+    throw UsageError("--seeds '" + text + "': at most 100000 seeds in one launch");
+  }
+  return r;
+}
+
+std::string VendorPlan::agent(std::uint32_t index) const {
+  if (label != "mixed") return arena;
+  return index % 2 == 0 ? "fastdds" : "cyclonedds";
+}
+
+std::vector<std::string> overrides_for_seed(const Plan& plan, std::uint64_t seed) {
+  auto out = plan.overrides;
+  out.push_back("seed=" + std::to_string(seed));
+  return out;
+}
+
+Plan make_plan(const LaunchOptions& options, const std::string& self_dir) {
+  namespace fs = std::filesystem;
+  Plan plan;
+  plan.options = options;
+  const auto& o = options;
+
+  // The scenario file first: everything else is about it.
+  if (!fs::is_regular_file(o.scenario_path)) {
+    throw UsageError("SCENARIO '" + o.scenario_path + "': no such file (a YAML scenario file)");
+  }
+
+  // Seeds.
+  if (!o.seeds.empty() && o.seed) {
+    throw UsageError("--seed " + std::to_string(*o.seed) + " with --seeds " + o.seeds +
+                     ": give one or the other");
+  }
+  if (!o.seeds.empty()) {
+    const auto range = parse_seed_range(o.seeds);
+    for (auto s = range.first;; ++s) {
+      plan.seeds.push_back(s);
+      if (s == range.last) break;
+    }
+    plan.multi_seed = true;
+  }
+
+  // Middleware.
+  const auto vendors = transport::dds_vendors();
+  auto built = [&](const std::string& v) { return std::find(vendors.begin(), vendors.end(), v) != vendors.end(); };
+  if (!o.dds.empty()) {
+    if (o.in_process) {
+      throw UsageError("--dds '" + o.dds + "': not used with --in-process (one process over the "
+                       "in-memory transport)");
+    }
+    if (o.dds != "mixed" && !built(o.dds)) {
+      auto allowed = vendors;
+      if (vendors.size() == 2) allowed.emplace_back("mixed");
+      throw UsageError("--dds '" + o.dds + "': must be one of " + join(allowed));
+    }
+    if (o.dds == "mixed" && vendors.size() != 2) {
+      throw UsageError("--dds 'mixed': this build has only " + join(vendors) +
+                       " (mixed needs Fast DDS and Cyclone DDS)");
+    }
+  }
+  if (o.domain && (*o.domain < 0 || *o.domain > transport::max_domain_id)) {
+    throw UsageError("--domain " + std::to_string(*o.domain) + ": must be an integer in 0.." +
+                     std::to_string(transport::max_domain_id));
+  }
+
+  // The scenario with every override, exactly as the children will resolve it.
+  plan.overrides = o.overrides;
+  if (!o.dds.empty() && o.dds != "mixed") plan.overrides.push_back("dds.vendor=" + o.dds);
+  if (o.domain) plan.overrides.push_back("dds.domain=" + std::to_string(*o.domain));
+  if (!plan.multi_seed) {
+    // --seed N, or the scenario's own seed (read below).
+    if (o.seed) plan.overrides.push_back("seed=" + std::to_string(*o.seed));
+  }
+  auto first = plan.overrides;
+  if (plan.multi_seed) first.push_back("seed=" + std::to_string(plan.seeds.front()));
+  plan.scenario = scenario::load(o.scenario_path, first);
+  if (!plan.multi_seed) plan.seeds.push_back(plan.scenario.seed);
+  // overrides_for_seed() appends the seed itself.
+  std::erase_if(plan.overrides, [](const std::string& s) { return s.rfind("seed=", 0) == 0; });
+  plan.endless = plan.scenario.arena.queue == "endless";
+
+  if (!o.arena_profile.empty()) {
+    if (o.in_process) throw UsageError("--arena-profile: not used with --in-process (no DDS)");
+    if (!fs::is_regular_file(o.arena_profile)) {
+      throw UsageError("--arena-profile '" + o.arena_profile + "': no such file (a DDS XML profile "
+                       "for the arena, e.g. deploy/dds/fastdds-discovery-server-hub.xml)");
+    }
+  }
+  if (o.in_process) {
+    plan.vendors = {"inmemory", "inmemory"};
+    if (plan.scenario.run.mode != "lockstep") {
+      throw UsageError("run.mode = " + plan.scenario.run.mode +
+                       ": --in-process steps the arena and the agents in lockstep only");
+    }
+    return plan;
+  }
+
+  // Process mode.
+  const std::string vendor = o.dds.empty() ? plan.scenario.dds.vendor : o.dds;
+  if (vendor == "inmemory") {
+    throw UsageError("dds.vendor = inmemory: separate processes need fastdds or cyclonedds "
+                     "(or use --in-process)");
+  }
+  plan.vendors = vendor == "mixed" ? VendorPlan{"mixed", "cyclonedds"} : VendorPlan{vendor, vendor};
+  // The domain: --domain, or --set dds.domain=N; otherwise a free one is picked at run time.
+  if (o.domain || sets_key(o.overrides, "dds.domain")) plan.domain = plan.scenario.dds.domain;
+  const std::string dir = o.bin_dir.empty() ? self_dir : o.bin_dir;
+  plan.arena_exe = dir + "/retreat-arena";
+  plan.agent_exe = dir + "/retreat-agent";
+  for (const auto& exe : {plan.arena_exe, plan.agent_exe}) {
+    if (!executable(exe)) {
+      throw UsageError("'" + exe + "': no such program (retreat-launch looks next to itself" +
+                       std::string(o.bin_dir.empty() ? "; use --bin-dir DIR" : " in --bin-dir") + ")");
+    }
+  }
+  if (!o.no_bridge) {
+    const auto bridge = dir + "/retreat-bridge";
+    if (executable(bridge)) {
+      plan.bridge_exe = bridge;
+    } else {
+      plan.bridge_missing = true;
+    }
+  }
+  return plan;
+}
+
+}  // namespace retreat::launch

@@ -1,0 +1,76 @@
+#pragma once
+/// @file
+/// The launcher's command line, and the plan it resolves to once everything is validated.
+/// Nothing here starts a process or writes a file.
+
+#include <cstdint>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "retreat/scenario/scenario.hpp"
+
+namespace retreat::launch {
+
+/// Bad launcher input: one line naming the value and what is allowed (exit code 2).
+class UsageError : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+
+/// The command line as given.
+struct LaunchOptions {
+  std::string scenario_path;
+  std::string dds;                     ///< empty: the scenario's dds.vendor
+  std::optional<int> domain;           ///< empty: a free domain id in 1..99 (process mode)
+  std::string out_dir;                 ///< empty: runs/<timestamp>
+  std::optional<std::uint64_t> seed;   ///< overrides the scenario's seed
+  std::string seeds;                   ///< "A:B", inclusive
+  std::vector<std::string> overrides;  ///< section.key=value, passed on to every program
+  bool no_bridge = false;
+  bool in_process = false;
+  std::string bin_dir;  ///< empty: the directory of this executable
+  std::string arena_profile;  ///< the arena's dds.profile (the hub of a star); empty: dds.profile
+};
+
+/// The seeds to run, A..B inclusive.
+struct SeedRange {
+  std::uint64_t first = 0;
+  std::uint64_t last = 0;
+};
+
+/// Parses "A:B" (whole numbers, A <= B); throws UsageError.
+SeedRange parse_seed_range(const std::string& text);
+
+/// Which vendor each process uses.
+struct VendorPlan {
+  std::string label;  ///< fastdds, cyclonedds, mixed (or inmemory in-process)
+  std::string arena;  ///< the arena's vendor (and the launcher's telemetry reader's, the bridge's)
+  /// The vendor of agent number `index` (0-based, in robot id order).
+  std::string agent(std::uint32_t index) const;
+};
+
+/// Everything validated: what to run, and how.
+struct Plan {
+  LaunchOptions options;
+  scenario::Scenario scenario;         ///< resolved with the overrides, the first seed, the domain
+  std::vector<std::string> overrides;  ///< what children get with --set (user's + seed)
+  std::vector<std::uint64_t> seeds;    ///< one run per seed
+  bool multi_seed = false;             ///< --seeds: runs go to OUT/seed_<n>/
+  VendorPlan vendors;
+  bool endless = false;                ///< arena.queue = endless
+  std::optional<int> domain;           ///< explicit domain (--domain or --set dds.domain=N)
+  std::string arena_exe, agent_exe, bridge_exe;  ///< bridge_exe empty: none (or --no-bridge)
+  bool bridge_missing = false;         ///< no retreat-bridge next to the launcher
+};
+
+/// Validates the command line and the scenario with every override; throws UsageError or
+/// scenario::ConfigError (both one line). Does not start anything or create any file.
+/// `self_dir` is the directory of the launcher's executable.
+Plan make_plan(const LaunchOptions& options, const std::string& self_dir);
+
+/// The overrides a child gets for one seed (the user's, then `seed=<n>`).
+std::vector<std::string> overrides_for_seed(const Plan& plan, std::uint64_t seed);
+
+}  // namespace retreat::launch

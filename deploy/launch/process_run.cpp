@@ -1,0 +1,244 @@
+// Process mode: one retreat-arena, one retreat-agent per robot, and the bridge when there is
+// one, each its own process and DDS participant, supervised by PID until the arena exits.
+
+#include <signal.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <thread>
+
+#include "child_process.hpp"
+#include "progress.hpp"
+#include "retreat/transport/factory.hpp"
+#include "run.hpp"
+#include "summary.hpp"
+
+namespace retreat::launch {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using namespace std::chrono_literals;
+
+/// Endless queue: agents started ahead of the robots that exist (ids only grow, one at a time),
+/// so that each agent is up and discovered before its robot joins the queue. Should the arena
+/// still publish a robot's first frame before the match, lockstep re-sends unanswered frames
+/// until run.agent_timeout, and real time applies decisions whenever they come.
+constexpr std::uint32_t endless_spare_agents = 4;
+constexpr auto agent_stagger = 5ms;
+constexpr auto arena_stop_grace = 10s;  // it writes the run directory's summary on SIGTERM
+constexpr auto child_stop_grace = 5s;
+
+struct AgentProcess {
+  std::uint32_t robot;
+  std::string vendor;
+  std::unique_ptr<ChildProcess> process;
+  bool reported = false;  ///< its exit has been reported
+};
+
+/// The launcher's own view of the run: a reader of `<prefix>/arena_telemetry` on its own
+/// participant (the arena's vendor). Progress only: correctness never depends on it.
+class TelemetryWatch {
+ public:
+  TelemetryWatch(const scenario::Scenario& s, const std::string& vendor, int domain) {
+    transport::ParticipantOptions o;
+    o.domain_id = domain;
+    o.name = "retreat-launch";
+    o.user_data = "retreat:launch";
+    o.profile = s.dds.profile;
+    transport_ = transport::make_transport(vendor, o);
+    reader_.emplace(transport_->create_reader<wire::ArenaTelemetry>(
+        {wire::arena_telemetry_topic(s.dds.prefix), transport::QosIntent::state()}));
+  }
+  /// Waits up to `timeout` for telemetry; returns the newest sample received, if any.
+  std::optional<wire::ArenaTelemetry> poll(std::chrono::milliseconds timeout) {
+    transport_->wait(timeout);
+    auto samples = reader_->take();
+    if (samples.empty()) return std::nullopt;
+    return samples.back();
+  }
+
+ private:
+  std::unique_ptr<transport::Transport> transport_;
+  std::optional<transport::Reader<wire::ArenaTelemetry>> reader_;
+};
+
+void write_processes(const std::string& dir, int domain, const ChildProcess& arena,
+                     const std::string& arena_vendor, const std::vector<AgentProcess>& agents,
+                     const ChildProcess* bridge) {
+  nlohmann::json j;
+  j["launcher_pid"] = ::getpid();
+  j["domain"] = domain;
+  j["arena"] = {{"pid", arena.pid()}, {"vendor", arena_vendor}, {"log", arena.log_path()}};
+  j["agents"] = nlohmann::json::array();
+  for (const auto& a : agents) {
+    j["agents"].push_back({{"robot", a.robot}, {"pid", a.process->pid()}, {"vendor", a.vendor},
+                           {"log", a.process->log_path()}});
+  }
+  j["bridge"] = bridge != nullptr ? nlohmann::json{{"pid", bridge->pid()}, {"log", bridge->log_path()}}
+                                  : nlohmann::json(nullptr);
+  write_json_atomically(dir + "/processes.json", j);
+}
+
+}  // namespace
+
+RunOutcome run_processes(const Plan& plan, std::uint64_t seed, const std::string& dir, int domain) {
+  namespace fs = std::filesystem;
+  const auto launch_start = Clock::now();
+  const auto s = scenario::load(plan.options.scenario_path, overrides_for_seed(plan, seed));
+  fs::create_directories(dir + "/logs");
+  const std::string scenario_path = fs::absolute(plan.options.scenario_path).string();
+  const std::string domain_text = std::to_string(domain);
+  std::vector<std::string> common = {"--scenario", scenario_path, "--domain", domain_text};
+  for (const auto& o : overrides_for_seed(plan, seed)) {
+    common.push_back("--set");
+    common.push_back(o);
+  }
+  auto with = [&](std::vector<std::string> head) {
+    head.insert(head.end(), common.begin(), common.end());
+    return head;
+  };
+
+  ProgressLine progress(s.name + " seed " + std::to_string(seed), s.run.duration);
+  std::unique_ptr<ChildProcess> arena, bridge;
+  std::vector<AgentProcess> agents;
+  std::map<std::string, std::uint32_t> agent_vendors;
+  const auto all_children = [&] {
+    std::vector<ChildProcess*> out;
+    if (arena) out.push_back(arena.get());
+    for (auto& a : agents) out.push_back(a.process.get());
+    if (bridge) out.push_back(bridge.get());
+    return out;
+  };
+  const auto start_agent = [&](std::uint32_t robot) {
+    const auto vendor = plan.vendors.agent(robot);
+    auto p = std::make_unique<ChildProcess>(
+        "retreat-agent robot " + std::to_string(robot),
+        with({plan.agent_exe, "--robot-id", std::to_string(robot), "--dds", vendor}),
+        dir + "/logs/agent_" + std::to_string(robot) + ".log");
+    agents.push_back({robot, vendor, std::move(p)});
+    ++agent_vendors[vendor];
+  };
+
+  bool stopped = false;
+  std::optional<ExitStatus> arena_status;
+  std::optional<double> first_tick_seconds;
+  try {
+    // The arena first: it waits for the agents itself (run.startup_timeout), and with Fast DDS
+    // its low participant index keeps it among every agent's initial unicast peers.
+    auto arena_args = with({plan.arena_exe, "--dds", plan.vendors.arena, "--out", dir});
+    if (!plan.options.arena_profile.empty()) {
+      arena_args.push_back("--set");  // after the user's --set: this one wins
+      arena_args.push_back("dds.profile=" + fs::absolute(plan.options.arena_profile).string());
+    }
+    arena = std::make_unique<ChildProcess>("retreat-arena", arena_args, dir + "/logs/arena.log");
+    const std::uint32_t robots = s.arena.robots_inside + s.arena.robots_waiting +
+                                 (plan.endless ? endless_spare_agents : 0);
+    for (std::uint32_t r = 0; r < robots && stop_signal.load() == 0; ++r) {
+      std::this_thread::sleep_for(agent_stagger);
+      start_agent(r);
+    }
+    if (!plan.bridge_exe.empty() && stop_signal.load() == 0) {
+      bridge = std::make_unique<ChildProcess>(
+          "retreat-bridge", with({plan.bridge_exe, "--dds", plan.vendors.arena, "--out", dir}),
+          dir + "/logs/bridge.log");
+    }
+    write_processes(dir, domain, *arena, plan.vendors.arena, agents, bridge.get());
+
+    std::unique_ptr<TelemetryWatch> watch;
+    try {
+      watch = std::make_unique<TelemetryWatch>(s, plan.vendors.arena, domain);
+    } catch (const std::exception& e) {
+      progress.message("retreat-launch: no progress line (cannot read the arena's telemetry: " +
+                       std::string(e.what()) + ")");
+    }
+    progress.show_status("waiting for the arena to match " + std::to_string(agents.size()) + " agents");
+    bool bridge_reported = false;
+    for (;;) {
+      if (stop_signal.load() != 0) {
+        stopped = true;
+        break;
+      }
+      if (arena->poll()) break;
+      for (auto& a : agents) {
+        const auto& st = a.process->poll();
+        if (!st || a.reported) continue;
+        a.reported = true;
+        // Exit code 0: its robot departed. Anything else: the arena counts the agent lost.
+        if (st->code != 0) {
+          progress.message("retreat-launch: retreat-agent robot " + std::to_string(a.robot) + " (pid " +
+                           std::to_string(a.process->pid()) + ") " + st->describe() +
+                           "; the arena will count it lost (" + a.process->log_path() + ")");
+        }
+      }
+      if (bridge && !bridge_reported && bridge->poll()) {
+        bridge_reported = true;
+        progress.message("retreat-launch: retreat-bridge " + bridge->poll()->describe() + " (" +
+                         bridge->log_path() + "); the run goes on");
+      }
+      std::optional<wire::ArenaTelemetry> t;
+      if (watch) {
+        t = watch->poll(100ms);
+      } else {
+        std::this_thread::sleep_for(100ms);
+      }
+      if (!t) continue;
+      if (!first_tick_seconds) {
+        // The arena publishes tick 0 once it has matched the agents (or given up on some).
+        first_tick_seconds = std::chrono::duration<double>(Clock::now() - launch_start).count();
+      }
+      progress.show(*t);
+      if (plan.endless) {
+        // Ids only grow, one per robot: inside + waiting + retreating + departed of them exist.
+        const std::uint32_t exist = t->inside + t->waiting + t->retreating + t->departed;
+        const auto before = agents.size();
+        for (auto r = static_cast<std::uint32_t>(agents.size()); r < exist + endless_spare_agents; ++r) start_agent(r);
+        if (agents.size() != before) write_processes(dir, domain, *arena, plan.vendors.arena, agents, bridge.get());
+      }
+    }
+    watch.reset();
+    if (stopped) {
+      // The arena first, so that it writes its summary; then everything else.
+      stop_all({arena.get()}, arena_stop_grace);
+    }
+    arena_status = arena->poll();
+    std::vector<ChildProcess*> agent_processes;
+    for (auto& a : agents) agent_processes.push_back(a.process.get());
+    stop_all(agent_processes, child_stop_grace);
+  } catch (...) {
+    stop_all(all_children(), child_stop_grace);
+    throw;
+  }
+  progress.finish();
+  // The bridge goes last, once summary.json is complete: it writes its report on SIGTERM.
+  struct StopBridge {
+    ChildProcess* bridge;
+    ~StopBridge() {
+      if (bridge != nullptr) stop_all({bridge}, child_stop_grace);
+    }
+  } stop_bridge{bridge.get()};
+
+  if (!stopped && (arena_status->signal != 0 || arena_status->code != 0)) {
+    throw RunFailure("retreat-arena (pid " + std::to_string(arena->pid()) + ") " + arena_status->describe() +
+                     "; stopped every agent (see " + arena->log_path() + ")");
+  }
+  LaunchRecord record;
+  record.dds = plan.vendors.label;
+  record.mode = "processes";
+  record.agents_started = static_cast<std::uint32_t>(agents.size());
+  record.wall_seconds = std::chrono::duration<double>(Clock::now() - launch_start).count();
+  record.domain = domain;
+  record.arena_vendor = plan.vendors.arena;
+  record.agent_vendors = agent_vendors;
+  record.bridge = bridge != nullptr;
+  record.seconds_to_first_tick = first_tick_seconds.value_or(-1.0);
+  RunOutcome out;
+  out.stopped = stopped;
+  if (stopped && !fs::exists(dir + "/summary.json")) return out;
+  out.summary = update_summary(dir, record);
+  return out;
+}
+
+}  // namespace retreat::launch

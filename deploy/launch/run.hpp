@@ -1,0 +1,37 @@
+#pragma once
+/// @file
+/// One run of a scenario with one seed, in separate processes or in this one.
+
+#include <atomic>
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <string>
+
+#include "options.hpp"
+
+namespace retreat::launch {
+
+/// The signal (SIGINT, SIGTERM, SIGHUP) that asked the launcher to stop; 0 while none did.
+extern std::atomic<int> stop_signal;
+
+/// A run that failed (the arena failed, or left no summary): exit code 1.
+class RunFailure : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct RunOutcome {
+  bool stopped = false;    ///< a signal stopped it (the summary, if any, was still updated)
+  nlohmann::json summary;  ///< the run directory's summary.json as updated by the launcher
+};
+
+/// Steps the arena and every agent in this process over the in-memory transport, in lockstep:
+/// publish_tick, every agent's spin_once(0), collect_available, step. Writes `dir`.
+RunOutcome run_in_process(const Plan& plan, std::uint64_t seed, const std::string& dir);
+
+/// Starts retreat-arena, one retreat-agent per robot (and the bridge), supervises them until
+/// the arena exits, stops the rest, and updates `dir`/summary.json. Throws RunFailure.
+RunOutcome run_processes(const Plan& plan, std::uint64_t seed, const std::string& dir, int domain);
+
+}  // namespace retreat::launch

@@ -1,0 +1,40 @@
+#pragma once
+/// @file
+/// What the launcher adds to a run directory's summary.json (written by the arena), and the
+/// aggregate of several seeds (seeds_summary.json). Files are replaced atomically.
+
+#include <cstdint>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace retreat::launch {
+
+/// How one run was launched.
+struct LaunchRecord {
+  std::string dds;             ///< fastdds, cyclonedds, mixed, inmemory
+  std::string mode;            ///< processes or in-process
+  std::uint32_t agents_started = 0;  ///< agent processes (or in-process agent nodes) started
+  double wall_seconds = 0.0;   ///< the whole launch of this run: start-up, run, shutdown
+  int domain = -1;             ///< DDS domain id (-1 in-process)
+  std::string arena_vendor;
+  std::map<std::string, std::uint32_t> agent_vendors;  ///< vendor -> agent processes
+  bool bridge = false;
+  /// From the launch until the launcher saw the arena's first telemetry (tick 0, published once
+  /// the agents matched) [s]; −1: not seen (in-process, or no telemetry reader).
+  double seconds_to_first_tick = -1.0;
+};
+
+/// Writes `j` to `path` through a temporary file and rename(): readers never see half a file.
+void write_json_atomically(const std::string& path, const nlohmann::json& j);
+
+/// Reads `dir`/summary.json, adds the launch record, writes it back atomically and returns it.
+/// Throws std::runtime_error when the arena left no readable summary.
+nlohmann::json update_summary(const std::string& dir, const LaunchRecord& record);
+
+/// Writes `out_dir`/seeds_summary.json from each seed's summary.
+nlohmann::json write_seeds_summary(const std::string& out_dir,
+                                   const std::vector<nlohmann::json>& summaries);
+
+}  // namespace retreat::launch
