@@ -1,0 +1,363 @@
+// Several hosts, emulated with network namespaces: the arena in one namespace, the 12 agents of
+// robotarium-2019 split over two others, joined by veth links to a Linux bridge in a fourth
+// namespace. Every process uses the SHIPPED multi-host profile of its vendor (Cyclone DDS:
+// deploy/dds/cyclonedds-multihost.xml filled from RETREAT_DDS_* environment variables; Fast DDS:
+// deploy/dds/fastdds-multihost.xml filled per host with sed, as the file says). The run must
+// complete and give the same trajectory as the in-process run with the same seed.
+//
+// Isolation: the namespaces have no interface but their own loopback and one veth end each, with
+// private addresses 10.213.0.0/24 that exist only inside them; nothing is configured in the
+// host's namespace, so no DDS packet can reach eth0. Namespace names carry the test process's
+// PID; the fixture's TearDown stops every process it started (by PID) and deletes every
+// namespace it created, also when the test failed. A run killed outright (ctest timeout) cannot
+// tear down: the next SetUp finds its namespaces by name (their PID no longer alive), kills the
+// processes inside them by PID (`ip netns pids`) and deletes them.
+//
+// Needs root (CAP_SYS_ADMIN + CAP_NET_ADMIN) and iproute2: skipped otherwise.
+// Domain ids of this file: 150 (Cyclone DDS), 151 (Fast DDS), 154 (Cyclone DDS star).
+
+#include <gtest/gtest.h>
+
+#include <signal.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <deque>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "retreat/testing/process.hpp"
+#include "retreat/transport/factory.hpp"
+
+namespace retreat {
+namespace {
+
+using namespace std::chrono_literals;
+using nlohmann::json;
+using testing::ChildProcess;
+
+constexpr int domain_cyclonedds = 150;
+constexpr int domain_fastdds = 151;
+constexpr int domain_cyclonedds_star = 154;
+
+const std::string scenario = std::string(RETREAT_SCENARIOS) + "/robotarium-2019.yaml";
+const std::string profiles = RETREAT_DDS_PROFILES;
+/// robotarium-2019 shortened to 200 simulated seconds: 6,667 lockstep ticks.
+const std::vector<std::string> short_run = {"--set", "run.duration=200"};
+constexpr std::int64_t short_run_ticks = 6667;
+constexpr int robots = 12;  // robots_inside 8 + robots_waiting 4
+const std::string ns_prefix = "retreat-mh-";
+/// Every namespace's end of its veth link (interface names are per namespace).
+const std::string ns_interface = "mh0";
+
+std::string find_program(const std::vector<std::string>& candidates) {
+  for (const auto& c : candidates) {
+    if (::access(c.c_str(), X_OK) == 0) return c;
+  }
+  return {};
+}
+
+bool built(const std::string& vendor) {
+  const auto v = transport::dds_vendors();
+  return std::find(v.begin(), v.end(), vendor) != v.end();
+}
+
+json read_json(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return json{};
+  try {
+    return json::parse(in);
+  } catch (const json::exception&) {
+    return json{};
+  }
+}
+
+bool pid_alive(pid_t pid) { return ::kill(pid, 0) == 0 || errno == EPERM; }
+
+/// One emulated host: a namespace, its address on the swarm network.
+struct Host {
+  std::string ns;
+  std::string address;
+};
+
+class Multihost : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ip_ = find_program({"/usr/sbin/ip", "/sbin/ip", "/usr/bin/ip", "/bin/ip"});
+    sed_ = find_program({"/usr/bin/sed", "/bin/sed"});
+    if (ip_.empty()) GTEST_SKIP() << "iproute2 (ip) is not installed: cannot emulate hosts";
+    if (::geteuid() != 0) GTEST_SKIP() << "network namespaces need root (ip netns add); running as uid " << ::geteuid();
+    dir_ = (std::filesystem::temp_directory_path() /
+            ("retreat-multihost-" + std::to_string(::getpid()) + "-" +
+             ::testing::UnitTest::GetInstance()->current_test_info()->name()))
+               .string();
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+    remove_stale_namespaces();
+
+    const std::string base = ns_prefix + std::to_string(::getpid()) + "-" + std::to_string(++serial_) + "-";
+    switch_ns_ = base + "sw";
+    arena_ = {base + "arena", "10.213.0.1"};
+    host_a_ = {base + "a", "10.213.0.2"};
+    host_b_ = {base + "b", "10.213.0.3"};
+    for (const auto& ns : {switch_ns_, arena_.ns, host_a_.ns, host_b_.ns}) {
+      if (ip({"netns", "add", ns}) != 0) {
+        GTEST_SKIP() << "`ip netns add " << ns << "` failed (no CAP_SYS_ADMIN / netns support?): "
+                     << testing::read_file(dir_ + "/ip.log");
+      }
+      namespaces_.push_back(ns);
+    }
+    // The switch: a bridge without STP delay or multicast snooping (floods SPDP multicast).
+    ASSERT_EQ(ip({"-n", switch_ns_, "link", "add", "br0", "type", "bridge", "forward_delay", "0",
+                  "stp_state", "0", "mcast_snooping", "0"}), 0) << ip_log();
+    ASSERT_EQ(ip({"-n", switch_ns_, "link", "set", "br0", "up"}), 0) << ip_log();
+    int port = 0;
+    for (const Host* h : {&arena_, &host_a_, &host_b_}) {
+      const std::string sw_end = "port" + std::to_string(port++);
+      // Created inside the switch namespace, the peer end directly in the host's namespace:
+      // nothing ever appears in the test's own namespace.
+      ASSERT_EQ(ip({"-n", switch_ns_, "link", "add", sw_end, "type", "veth", "peer", "name", ns_interface,
+                    "netns", h->ns}), 0) << ip_log();
+      ASSERT_EQ(ip({"-n", switch_ns_, "link", "set", sw_end, "master", "br0", "up"}), 0) << ip_log();
+      ASSERT_EQ(ip({"-n", h->ns, "link", "set", "lo", "up"}), 0) << ip_log();
+      ASSERT_EQ(ip({"-n", h->ns, "addr", "add", h->address + "/24", "dev", ns_interface}), 0) << ip_log();
+      ASSERT_EQ(ip({"-n", h->ns, "link", "set", ns_interface, "up"}), 0) << ip_log();
+      // Multicast (Cyclone's SPDP) leaves by the swarm link; there is no other route anyway.
+      ASSERT_EQ(ip({"-n", h->ns, "route", "add", "224.0.0.0/4", "dev", ns_interface}), 0) << ip_log();
+    }
+  }
+
+  void TearDown() override {
+    // Processes first (by PID; a namespace lives as long as a process in it), then namespaces.
+    for (auto& p : processes_) {
+      if (p.running()) p.stop(2000ms);
+    }
+    processes_.clear();
+    for (auto it = namespaces_.rbegin(); it != namespaces_.rend(); ++it) {
+      EXPECT_EQ(ip({"netns", "delete", *it}), 0) << "could not delete namespace " << *it << ": " << ip_log();
+    }
+    namespaces_.clear();
+  }
+
+  /// Runs `ip ARGS` to its end (output to <dir>/ip.log); returns its exit code.
+  int ip(const std::vector<std::string>& args) {
+    std::vector<std::string> argv = {ip_};
+    argv.insert(argv.end(), args.begin(), args.end());
+    ChildProcess p(argv, dir_ + "/ip.log");
+    const auto code = p.wait_for(10s);
+    if (!code) {
+      p.stop(500ms);
+      return -1;
+    }
+    return *code;
+  }
+  std::string ip_log() const { return testing::read_file(dir_ + "/ip.log"); }
+
+  /// Namespaces of this test's naming whose process is gone (a run killed by a timeout).
+  void remove_stale_namespaces() {
+    std::error_code ec;
+    for (const auto& entry : std::filesystem::directory_iterator("/run/netns", ec)) {
+      const auto name = entry.path().filename().string();
+      if (name.rfind(ns_prefix, 0) != 0) continue;
+      const auto rest = name.substr(ns_prefix.size());
+      const auto dash = rest.find('-');
+      if (dash == std::string::npos) continue;
+      pid_t pid = 0;
+      try {
+        pid = static_cast<pid_t>(std::stol(rest.substr(0, dash)));
+      } catch (const std::exception&) {
+        continue;
+      }
+      if (pid <= 0 || pid == ::getpid() || pid_alive(pid)) continue;
+      // Processes that run killed test left in it (its arena and agents), by PID, then the name.
+      if (ip({"netns", "pids", name}) == 0) {
+        std::istringstream pids(ip_log());
+        for (long p = 0; pids >> p;) {
+          if (p > 1) ::kill(static_cast<pid_t>(p), SIGKILL);
+        }
+      }
+      ip({"netns", "delete", name});
+    }
+  }
+
+  /// Starts `ip netns exec NS PROGRAM ARGS...`: ip execs the program in place, so the PID is the
+  /// program's own.
+  ChildProcess& start_in(const Host& host, std::vector<std::string> argv, const std::string& log,
+                         const std::vector<std::string>& env) {
+    std::vector<std::string> full = {ip_, "netns", "exec", host.ns};
+    full.insert(full.end(), argv.begin(), argv.end());
+    processes_.emplace_back(full, log, env);
+    return processes_.back();
+  }
+
+  /// The Fast DDS multi-host profile filled for `host` with sed, exactly as the file says.
+  std::string fastdds_profile_for(const Host& host, const std::vector<const Host*>& peers) {
+    const std::string out = dir_ + "/fastdds-" + host.address + ".xml";
+    std::vector<std::string> argv = {sed_, "-e", "s/@HOST_ADDRESS@/" + host.address + "/"};
+    for (std::size_t i = 0; i < peers.size(); ++i) {
+      argv.push_back("-e");
+      argv.push_back("s/@PEER_ADDRESS_" + std::to_string(i + 1) + "@/" + peers[i]->address + "/");
+    }
+    argv.push_back(profiles + "/fastdds-multihost.xml");
+    ChildProcess sed(argv, out);
+    EXPECT_EQ(sed.wait_for(10s).value_or(-1), 0) << testing::read_file(out);
+    // No placeholder left in the XML itself (the header comment still names them).
+    const auto file = testing::read_file(out);
+    const auto body = file.substr(std::min(file.find("<dds"), file.size()));
+    EXPECT_FALSE(body.empty()) << out;
+    EXPECT_EQ(body.find('@'), std::string::npos) << body;
+    EXPECT_NE(body.find(host.address), std::string::npos);
+    return out;
+  }
+
+  /// The in-process reference run of the same scenario and seed.
+  json in_process_reference() {
+    const std::string out = dir_ + "/in-process";
+    std::vector<std::string> argv = {RETREAT_LAUNCH_BIN, scenario, "--in-process", "--no-bridge", "--out", out};
+    argv.insert(argv.end(), short_run.begin(), short_run.end());
+    ChildProcess p(argv, dir_ + "/in-process.log");
+    const auto code = p.wait_for(60s);
+    if (!code) p.stop();
+    EXPECT_EQ(code.value_or(-1), 0) << testing::read_file(dir_ + "/in-process.log");
+    return read_json(out + "/summary.json");
+  }
+
+  struct RunResult {
+    json summary;
+    double wall_seconds = 0;
+    long long arena_rx_packets = -1;  ///< packets the arena's namespace received on its veth end
+  };
+
+  /// Packets received on `host`'s veth end so far (-1 if unreadable).
+  long long rx_packets(const Host& host) {
+    const std::string log = dir_ + "/rx-" + host.address + ".txt";
+    ChildProcess p({ip_, "netns", "exec", host.ns, "cat", "/sys/class/net/" + ns_interface + "/statistics/rx_packets"},
+                   log);
+    if (p.wait_for(10s).value_or(-1) != 0) return -1;
+    try {
+      return std::stoll(testing::read_file(log));
+    } catch (const std::exception&) {
+      return -1;
+    }
+  }
+
+  /// The arena in its namespace, agents 0..5 on host A and 6..11 on host B; every process gets
+  /// `profile_of(host)` as dds.profile and `env_of(host)` in its environment.
+  template <class ProfileOf, class EnvOf>
+  RunResult run_swarm(const std::string& vendor, int domain, ProfileOf profile_of, EnvOf env_of) {
+    const std::string out = dir_ + "/run-" + vendor;
+    const auto common = [&](const Host& h) {
+      std::vector<std::string> a = {"--scenario", scenario, "--dds", vendor, "--domain", std::to_string(domain),
+                                    "--set", "dds.profile=" + profile_of(h)};
+      a.insert(a.end(), short_run.begin(), short_run.end());
+      return a;
+    };
+    const auto begin = std::chrono::steady_clock::now();
+    auto arena_args = common(arena_);
+    arena_args.insert(arena_args.begin(), RETREAT_ARENA_BIN);
+    arena_args.insert(arena_args.end(), {"--out", out});
+    ChildProcess& arena = start_in(arena_, arena_args, dir_ + "/arena-" + vendor + ".log", env_of(arena_));
+    for (int robot = 0; robot < robots; ++robot) {
+      const Host& h = robot < robots / 2 ? host_a_ : host_b_;
+      auto args = common(h);
+      args.insert(args.begin(), {RETREAT_AGENT_BIN, "--robot-id", std::to_string(robot)});
+      start_in(h, args, dir_ + "/agent-" + vendor + "-" + std::to_string(robot) + ".log", env_of(h));
+    }
+    const auto code = arena.wait_for(50s);
+    RunResult r;
+    r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+    EXPECT_TRUE(code.has_value()) << "the arena did not finish within 50 s; "
+                                  << testing::read_file(dir_ + "/arena-" + vendor + ".log");
+    EXPECT_EQ(code.value_or(-1), 0) << testing::read_file(dir_ + "/arena-" + vendor + ".log");
+    r.summary = read_json(out + "/summary.json");
+    EXPECT_FALSE(r.summary.empty()) << "no summary.json; " << testing::read_file(dir_ + "/arena-" + vendor + ".log");
+    // Agents: stopped by PID (the arena's end does not oblige them to exit at once).
+    for (auto& p : processes_) {
+      if (p.running()) p.stop(2000ms);
+    }
+    r.arena_rx_packets = rx_packets(arena_);
+    return r;
+  }
+
+  void expect_same_run(const RunResult& r, const json& reference, const std::string& vendor) {
+    ASSERT_FALSE(r.summary.empty());
+    ASSERT_FALSE(reference.empty()) << "no in-process reference summary";
+    EXPECT_EQ(r.summary["dds"], vendor);
+    EXPECT_EQ(r.summary["scenario"], "robotarium-2019");
+    EXPECT_EQ(r.summary["seed"], reference["seed"]);
+    EXPECT_EQ(r.summary["ticks"], short_run_ticks);
+    EXPECT_EQ(r.summary["agents"]["started"], robots);
+    EXPECT_EQ(r.summary["agents"]["lost"], 0);
+    EXPECT_EQ(r.summary["trajectory_sha256"].get<std::string>().size(), 64u);
+    EXPECT_EQ(r.summary["trajectory_sha256"], reference["trajectory_sha256"]);
+    EXPECT_EQ(r.summary["deliveries"], reference["deliveries"]);
+    EXPECT_LT(r.wall_seconds, 50.0);
+    // The decisions really crossed the emulated network: the arena's only link to its agents
+    // received at least one packet per tick (12 decisions per tick, batched or not).
+    EXPECT_GE(r.arena_rx_packets, short_run_ticks);
+    std::cout << "[ multihost ] " << vendor << ": " << r.wall_seconds << " s wall (start to arena exit), "
+              << "arena received " << r.arena_rx_packets << " packets on " << ns_interface << ", trajectory "
+              << r.summary["trajectory_sha256"].get<std::string>() << "\n";
+  }
+
+  std::string ip_, sed_, dir_, switch_ns_;
+  Host arena_, host_a_, host_b_;
+  std::vector<std::string> namespaces_;
+  std::deque<ChildProcess> processes_;  // deque: references stay valid
+  static inline int serial_ = 0;
+};
+
+TEST_F(Multihost, CycloneDdsRobotariumOverThreeHostsGivesTheInProcessTrajectory) {
+  if (!built("cyclonedds")) GTEST_SKIP() << "Cyclone DDS is not built";
+  const auto reference = in_process_reference();
+  // The file's "LAN with multicast" setting: only the interface is named; SPDP multicast on it.
+  const auto r = run_swarm(
+      "cyclonedds", domain_cyclonedds, [&](const Host&) { return profiles + "/cyclonedds-multihost.xml"; },
+      [&](const Host&) { return std::vector<std::string>{"RETREAT_DDS_INTERFACE=" + ns_interface}; });
+  expect_same_run(r, reference, "cyclonedds");
+}
+
+// The file's "star over hosts without multicast" setting (the one for 200+ robots): the arena
+// has participant index 0 and no multicast; agents announce by unicast to the arena host only.
+TEST_F(Multihost, CycloneDdsStarWithoutMulticastOverThreeHostsGivesTheInProcessTrajectory) {
+  if (!built("cyclonedds")) GTEST_SKIP() << "Cyclone DDS is not built";
+  const auto reference = in_process_reference();
+  const auto r = run_swarm(
+      "cyclonedds", domain_cyclonedds_star, [&](const Host&) { return profiles + "/cyclonedds-multihost.xml"; },
+      [&](const Host& h) {
+        std::vector<std::string> env = {"RETREAT_DDS_INTERFACE=" + ns_interface, "RETREAT_DDS_MULTICAST=false"};
+        if (h.ns == arena_.ns) {
+          env.push_back("RETREAT_DDS_PARTICIPANT_INDEX=0");
+        } else {
+          env.push_back("RETREAT_DDS_PEERS=" + arena_.address);
+          env.push_back("RETREAT_DDS_MAX_PARTICIPANT_INDEX=2");
+        }
+        return env;
+      });
+  expect_same_run(r, reference, "cyclonedds");
+}
+
+TEST_F(Multihost, FastDdsRobotariumOverThreeHostsGivesTheInProcessTrajectory) {
+  if (!built("fastdds")) GTEST_SKIP() << "Fast DDS is not built";
+  if (sed_.empty()) GTEST_SKIP() << "sed is not installed";
+  const auto reference = in_process_reference();
+  // Every host lists the two others as unicast initial peers (@PEER_ADDRESS_1@, _2@).
+  const std::string arena_xml = fastdds_profile_for(arena_, {&host_a_, &host_b_});
+  const std::string a_xml = fastdds_profile_for(host_a_, {&arena_, &host_b_});
+  const std::string b_xml = fastdds_profile_for(host_b_, {&arena_, &host_a_});
+  const auto r = run_swarm(
+      "fastdds", domain_fastdds,
+      [&](const Host& h) { return h.ns == arena_.ns ? arena_xml : h.ns == host_a_.ns ? a_xml : b_xml; },
+      [&](const Host&) { return std::vector<std::string>{}; });
+  expect_same_run(r, reference, "fastdds");
+}
+
+}  // namespace
+}  // namespace retreat
