@@ -15,6 +15,11 @@ packages=(
   libgtest-dev libgmock-dev googletest libbenchmark-dev
   # test helpers: network namespaces for multi-host tests, python for scripts
   iproute2 procps python3
+  # the bridge's page: npm installs its front-end library (uPlot) at build time (npm ships
+  # inside nodejs where nodejs is NodeSource's, which conflicts with Debian's npm package)
+  nodejs $(command -v npm >/dev/null 2>&1 || echo npm)
+  # the bridge's browser test: headless Chromium
+  chromium
 )
 
 missing=()

@@ -1,0 +1,223 @@
+// retreat-bridge: what the swarm is doing, for people and for tools.
+//
+// Reads:  <prefix>/arena_telemetry   (ground truth, keyed by arena id; transient-local)
+//         <prefix>/poses             (positions for display, keyed by arena id; transient-local)
+//         <prefix>/agent_status      (each agent's estimate, ε, window count; transient-local)
+//         Never a robot's own topics (<prefix>/robot_<id>/...).
+// Writes: HTTP on bridge.http (--http): the dashboard, /api/state, /api/history, /api/events,
+//         /metrics, /runs/<file>, /report (see bridge/server/include/retreat/bridge/server.hpp).
+//         With --out DIR: DIR/agent_status.csv (every status received) and DIR/report.html, when
+//         the arena's summary.json appears and again on SIGINT/SIGTERM.
+//
+// retreat-bridge --report DIR writes DIR/report.html for a finished run directory (or one with
+// seed_<n>/ run directories) and exits.
+//
+// Exit codes: 0 stopped by SIGINT/SIGTERM (or --report done); 2 bad input at start-up, including
+// a malformed --http and a port that cannot be bound; 1 middleware or file failure.
+
+#include <CLI/CLI.hpp>
+
+#include <pthread.h>
+#include <signal.h>
+
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <thread>
+
+#include "retreat/bridge/address.hpp"
+#include "retreat/bridge/live_state.hpp"
+#include "retreat/bridge/receiver.hpp"
+#include "retreat/bridge/report.hpp"
+#include "retreat/bridge/run_info.hpp"
+#include "retreat/bridge/server.hpp"
+#include "retreat/scenario/scenario.hpp"
+#include "retreat/transport/factory.hpp"
+
+namespace {
+
+using namespace retreat;
+namespace fs = std::filesystem;
+
+int fail(int code, const std::string& message) {
+  std::fprintf(stderr, "retreat-bridge: %s\n", message.c_str());
+  return code;
+}
+
+/// Writes the report, saying so on stderr; a failure is reported, never fatal.
+void report(const std::string& dir) {
+  try {
+    const auto path = bridge::write_report(dir);
+    std::fprintf(stderr, "retreat-bridge: wrote %s\n", path.c_str());
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "retreat-bridge: no report: %s\n", e.what());
+  }
+}
+
+/// The summary.json's modification time, if it exists.
+std::optional<fs::file_time_type> summary_time(const std::string& dir) {
+  std::error_code ec;
+  const auto t = fs::last_write_time(dir + "/summary.json", ec);
+  if (ec) return std::nullopt;
+  return t;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"retreat-bridge: live dashboard, JSON API, Prometheus metrics and reports of a "
+               "voluntary-retreat swarm"};
+  std::string scenario_path, dds, http, out_dir, report_dir;
+  int domain = -1;
+  std::vector<std::string> overrides;
+  bool print_config = false;
+  app.add_option("--scenario", scenario_path, "scenario file (YAML)");
+  app.add_option("--dds", dds, "middleware: fastdds or cyclonedds (overrides dds.vendor)");
+  app.add_option("--domain", domain, "DDS domain id 0..232 (overrides dds.domain)");
+  app.add_option("--http", http, "HOST:PORT to serve on (overrides bridge.http; port 0 picks a free one)");
+  app.add_option("--out", out_dir, "run directory: record agent statuses, serve its files, write report.html");
+  app.add_option("--set", overrides, "override a scenario value: section.key=value")->allow_extra_args(false);
+  app.add_option("--report", report_dir, "write DIR/report.html for a finished run (or seed_* runs) and exit");
+  app.add_flag("--print-config", print_config, "print the resolved scenario and exit");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) return app.exit(e);
+    return fail(2, e.what());
+  }
+
+  if (!report_dir.empty()) {
+    try {
+      const auto path = bridge::write_report(report_dir);
+      std::printf("retreat-bridge: wrote %s\n", path.c_str());
+      return 0;
+    } catch (const std::invalid_argument& e) {
+      return fail(2, std::string("--report ") + report_dir + ": " + e.what());
+    } catch (const std::exception& e) {
+      return fail(2, std::string("--report: ") + e.what());
+    }
+  }
+  if (scenario_path.empty()) return fail(2, "--scenario is required (or --report DIR)");
+
+  scenario::Scenario s;
+  bridge::HttpAddress address;
+  try {
+    if (!dds.empty()) overrides.push_back("dds.vendor=" + dds);
+    if (domain != -1) overrides.push_back("dds.domain=" + std::to_string(domain));
+    s = scenario::load(scenario_path, overrides);
+    address = http.empty() ? bridge::parse_http_address(s.bridge.http, "bridge.http")
+                           : bridge::parse_http_address(http, "--http");
+  } catch (const std::invalid_argument& e) {
+    return fail(2, e.what());
+  }
+  if (print_config) {
+    std::cout << scenario::dump(s);
+    return 0;
+  }
+
+  // Every thread (DDS's, httplib's, ours) inherits this mask; main takes the signals with
+  // sigwait. SIGPIPE: a client that went away must not end the program.
+  sigset_t stop_signals;
+  sigemptyset(&stop_signals);
+  sigaddset(&stop_signals, SIGINT);
+  sigaddset(&stop_signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
+  std::signal(SIGPIPE, SIG_IGN);
+
+  std::unique_ptr<bridge::StatusRecorder> recorder;
+  if (!out_dir.empty()) {
+    std::error_code ec;
+    fs::create_directories(out_dir, ec);
+    if (ec) return fail(2, "--out '" + out_dir + "': cannot create the directory: " + ec.message());
+    try {
+      recorder = std::make_unique<bridge::StatusRecorder>(out_dir);
+    } catch (const std::exception& e) {
+      return fail(2, e.what());
+    }
+  }
+
+  bridge::LiveState state{telemetry::Aggregator(bridge::run_info(s))};
+  bridge::ServerOptions options;
+  options.run_dir = out_dir;
+  std::unique_ptr<bridge::Receiver> receiver;
+  bridge::Server* serving_server = nullptr;
+  options.extra_metrics = [&receiver, &serving_server](telemetry::PrometheusWriter& out) {
+    if (serving_server != nullptr) {
+      const auto r = serving_server->responses();
+      out.family("retreat_bridge_http_responses_total", "counter", "HTTP responses by status class.");
+      for (std::size_t c = 1; c < r.size(); ++c) {
+        out.sample(static_cast<double>(r[c]), {{"code", std::to_string(c) + "xx"}});
+      }
+      out.family("retreat_bridge_event_streams", "gauge", "Open server-sent event streams.");
+      out.sample(static_cast<double>(serving_server->event_streams()));
+    }
+    if (!receiver) return;
+    const auto m = receiver->matched();
+    out.family("retreat_bridge_writers_matched", "gauge", "Remote writers matched with the bridge's readers.");
+    out.sample(static_cast<double>(m[0]), {{"topic", "arena_telemetry"}});
+    out.sample(static_cast<double>(m[1]), {{"topic", "poses"}});
+    out.sample(static_cast<double>(m[2]), {{"topic", "agent_status"}});
+    out.family("retreat_bridge_samples_invalid_total", "counter", "Samples the readers dropped as invalid.");
+    out.sample(static_cast<double>(receiver->dropped()));
+  };
+  bridge::Server server(state, options);
+  serving_server = &server;
+  int port = 0;
+  try {
+    port = server.bind(address);
+  } catch (const std::exception& e) {
+    return fail(2, std::string(http.empty() ? "bridge.http " : "--http ") + e.what());
+  }
+
+  std::unique_ptr<transport::Transport> transport;
+  try {
+    transport::ParticipantOptions p;
+    p.domain_id = s.dds.domain;
+    p.name = "retreat-bridge";
+    p.user_data = "retreat:bridge";
+    p.profile = s.dds.profile;
+    transport = transport::make_transport(s.dds.vendor, p);
+    receiver = std::make_unique<bridge::Receiver>(*transport, s.dds.prefix, state, recorder.get());
+  } catch (const std::invalid_argument& e) {
+    return fail(2, e.what());
+  } catch (const std::exception& e) {
+    return fail(1, e.what());
+  }
+
+  std::atomic<bool> stop{false};
+  // The end of the run: the arena writes summary.json into the run directory last.
+  const auto summary_at_start = out_dir.empty() ? std::nullopt : summary_time(out_dir);
+  auto reported_summary = summary_at_start;
+  std::thread receiving([&] {
+    receiver->run(stop, [&] {
+      if (out_dir.empty()) return;
+      const auto t = summary_time(out_dir);
+      if (t && t != reported_summary) {
+        reported_summary = t;
+        report(out_dir);
+      }
+    });
+  });
+  std::thread serving([&] { server.serve(); });
+
+  std::printf("retreat-bridge: serving http://%s:%d/\n", address.host.c_str(), port);
+  std::fflush(stdout);
+  std::fprintf(stderr, "retreat-bridge: %s on %s domain %d, prefix '%s'%s%s\n", s.name.c_str(),
+               s.dds.vendor.c_str(), s.dds.domain, s.dds.prefix.c_str(),
+               out_dir.empty() ? "" : ", recording into ", out_dir.c_str());
+
+  int signo = 0;
+  sigwait(&stop_signals, &signo);
+  std::fprintf(stderr, "retreat-bridge: stopping (signal %d)\n", signo);
+  stop.store(true);
+  server.stop();
+  serving.join();
+  receiving.join();
+  receiver.reset();
+  transport.reset();
+  if (recorder) recorder->flush();
+  if (!out_dir.empty() && fs::exists(out_dir + "/telemetry.csv")) report(out_dir);
+  return 0;
+}

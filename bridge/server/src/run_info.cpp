@@ -1,0 +1,31 @@
+#include "retreat/bridge/run_info.hpp"
+
+#include "retreat/model/optimum.hpp"
+#include "retreat/physics/domain.hpp"
+
+namespace retreat::bridge {
+
+telemetry::RunInfo run_info(const scenario::Scenario& s) {
+  const auto& a = s.arena;
+  const bool ellipse = a.shape == "ellipse";
+  const auto domain = ellipse ? physics::Domain::ellipse(a.semi_axis_x, a.semi_axis_y)
+                              : physics::Domain::rectangle(a.width, a.height);
+  telemetry::RunInfo r;
+  r.scenario = s.name;
+  r.mode = s.run.mode;
+  r.shape = a.shape;
+  r.half_x = domain.half_extent().x();
+  r.half_y = domain.half_extent().y();
+  r.area = domain.area();
+  r.lambda_star = model::lambda_star(s.model);
+  r.encounter_model = a.encounter_model;
+  r.robot_radius = a.robot_radius;
+  r.delta = s.model.delta;
+  r.robots = a.robots_inside + a.robots_waiting;
+  r.duration = s.run.duration;
+  r.status_period = s.run.status_period;
+  r.telemetry_period = s.run.telemetry_period;
+  return r;
+}
+
+}  // namespace retreat::bridge

@@ -1,0 +1,283 @@
+#include "retreat/bridge/server.hpp"
+
+#include <httplib.h>
+#include <sys/socket.h>
+
+#include <array>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <thread>
+
+#include "retreat/bridge/json.hpp"
+#include "retreat/bridge/report.hpp"
+#include "retreat/bridge/web_assets.hpp"
+
+namespace retreat::bridge {
+
+namespace {
+
+using namespace std::chrono_literals;
+using Clock = std::chrono::steady_clock;
+
+constexpr const char* json_type = "application/json";
+constexpr std::array<const char*, 7> run_files = {"telemetry.csv",  "agents.csv",       "summary.json",
+                                                  "scenario.yaml",  "encounters.csv",   "agent_status.csv",
+                                                  "report.html"};
+
+void no_store(httplib::Response& res) { res.set_header("Cache-Control", "no-store"); }
+
+void plain_error(httplib::Response& res, int status, const std::string& message) {
+  res.status = status;
+  res.set_content(message + "\n", "text/plain; charset=utf-8");
+}
+
+const char* reason(int status) {
+  switch (status) {
+    case 400: return "bad request";
+    case 404: return "not found";
+    case 405: return "method not allowed";
+    case 413: return "payload too large";
+    case 414: return "URI too long";
+    case 416: return "range not satisfiable";
+    case 431: return "request header fields too large";
+    case 500: return "internal error";
+    case 503: return "unavailable";
+    default: return status >= 500 ? "server error" : "error";
+  }
+}
+
+}  // namespace
+
+bool is_run_file(const std::string& name) {
+  for (const char* f : run_files) {
+    if (name == f) return true;
+  }
+  return false;
+}
+
+struct Server::Impl {
+  LiveState& state;
+  ServerOptions options;
+  httplib::Server http;
+  std::atomic<bool> stopping{false};
+  std::array<std::atomic<std::uint64_t>, 6> responses{};
+  std::atomic<bool> serving{false};
+  bool bound = false;
+
+  Impl(LiveState& s, ServerOptions o) : state(s), options(std::move(o)) {}
+};
+
+Server::Server(LiveState& state, ServerOptions options)
+    : impl_(std::make_unique<Impl>(state, std::move(options))) {
+  auto& http = impl_->http;
+  auto* impl = impl_.get();
+  const auto threads = impl->options.threads;
+  http.new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
+  http.set_payload_max_length(impl->options.max_payload);
+  http.set_read_timeout(impl->options.read_timeout);
+  http.set_write_timeout(impl->options.write_timeout);
+  http.set_keep_alive_timeout(impl->options.keep_alive_timeout.count());
+  http.set_keep_alive_max_count(100);
+  http.set_tcp_nodelay(true);
+  // httplib's default also sets SO_REUSEPORT, with which a second server binds a port in use and
+  // the kernel splits the connections between them: only SO_REUSEADDR here.
+  http.set_socket_options([](socket_t sock) {
+    int yes = 1;
+    ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+  });
+  http.set_logger([impl](const httplib::Request&, const httplib::Response& res) {
+    const int cls = res.status / 100;
+    if (cls >= 1 && cls <= 5) ++impl->responses[static_cast<std::size_t>(cls)];
+  });
+  http.set_error_handler([](const httplib::Request&, httplib::Response& res) {
+    if (res.body.empty()) {
+      res.set_content(std::to_string(res.status) + " " + reason(res.status) + "\n", "text/plain; charset=utf-8");
+    }
+  });
+  http.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr) {
+    plain_error(res, 500, "500 internal error");
+  });
+  http.set_default_headers({{"X-Content-Type-Options", "nosniff"}});
+
+  const auto asset = [](const std::string& name) {
+    return [name](const httplib::Request&, httplib::Response& res) {
+      const auto* a = find_web_asset(name);
+      if (a == nullptr) return plain_error(res, 404, "404 not found");
+      res.set_content(a->data.data(), a->data.size(), std::string(content_type_for(name)));
+      res.set_header("Cache-Control", name == "index.html" ? "no-cache" : "max-age=300");
+      if (name == "index.html") {
+        res.set_header("Content-Security-Policy",
+                       "default-src 'self'; img-src 'self' data:; style-src 'self' 'unsafe-inline'");
+      }
+    };
+  };
+  http.Get("/", asset("index.html"));
+  http.Get("/index.html", asset("index.html"));
+  for (const auto& a : web_assets()) {
+    const std::string name(a.name);
+    if (name == "index.html" || name.rfind("report", 0) == 0) continue;  // report.* are for files
+    http.Get("/" + name, asset(name));
+  }
+
+  http.Get("/api/state", [impl](const httplib::Request&, httplib::Response& res) {
+    no_store(res);
+    res.set_content(impl->state.state_text().first, json_type);
+  });
+  http.Get("/api/history", [impl](const httplib::Request&, httplib::Response& res) {
+    no_store(res);
+    res.set_content(impl->state.history_text(), json_type);
+  });
+  http.Get("/metrics", [impl](const httplib::Request&, httplib::Response& res) {
+    no_store(res);
+    res.set_content(impl->state.metrics_text([impl](telemetry::PrometheusWriter& out) {
+      if (impl->options.extra_metrics) impl->options.extra_metrics(out);
+    }),
+                    telemetry::prometheus_content_type);
+  });
+
+  http.Get("/api/events", [this, impl](const httplib::Request&, httplib::Response& res) {
+    if (event_streams_.fetch_add(1) >= impl->options.max_event_streams) {
+      --event_streams_;
+      res.set_header("Retry-After", "5");
+      return plain_error(res, 503, "503 too many event streams");
+    }
+    no_store(res);
+    res.set_header("X-Accel-Buffering", "no");
+    struct Stream {
+      std::uint64_t seen = ~std::uint64_t{0};
+      Clock::time_point opened = Clock::now();
+      Clock::time_point last_sent{};
+      bool greeted = false;
+    };
+    auto stream = std::make_shared<Stream>();
+    res.set_chunked_content_provider(
+        "text/event-stream",
+        [impl, stream](std::size_t, httplib::DataSink& sink) {
+          const auto& o = impl->options;
+          if (!stream->greeted) {
+            stream->greeted = true;
+            const std::string hello = "retry: 1000\n\n";
+            if (!sink.write(hello.data(), hello.size())) return false;
+          }
+          for (;;) {
+            if (impl->stopping.load() || Clock::now() - stream->opened > o.event_stream_lifetime) {
+              sink.done();
+              return true;
+            }
+            const auto since = Clock::now() - stream->last_sent;
+            if (since < o.event_min_interval) {
+              std::this_thread::sleep_for(o.event_min_interval - since);
+              continue;
+            }
+            const auto v = impl->state.wait_for_change(stream->seen, 250ms);
+            if (v != stream->seen) {
+              const auto [text, version] = impl->state.state_text();
+              stream->seen = version;
+              stream->last_sent = Clock::now();
+              const std::string event = "event: state\nid: " + std::to_string(version) + "\ndata: " + text + "\n\n";
+              return sink.write(event.data(), event.size());
+            }
+            if (Clock::now() - stream->last_sent > o.event_keep_alive) {
+              stream->last_sent = Clock::now();
+              const std::string comment = ": idle\n\n";
+              return sink.write(comment.data(), comment.size());
+            }
+          }
+        },
+        [this](bool) { --event_streams_; });
+  });
+
+  http.Get("/api/runs", [impl](const httplib::Request&, httplib::Response& res) {
+    no_store(res);
+    nlohmann::json j;
+    j["files"] = nlohmann::json::array();
+    if (!impl->options.run_dir.empty()) {
+      for (const char* f : run_files) {
+        std::error_code ec;
+        const auto size = std::filesystem::file_size(impl->options.run_dir + "/" + f, ec);
+        if (!ec) j["files"].push_back({{"name", f}, {"size", size}, {"url", std::string("/runs/") + f}});
+      }
+    }
+    j["recording"] = !impl->options.run_dir.empty();
+    res.set_content(j.dump(), json_type);
+  });
+
+  http.Get(R"(/runs/([A-Za-z0-9_.-]{1,64}))", [impl](const httplib::Request& req, httplib::Response& res) {
+    const std::string name = req.matches[1];
+    if (impl->options.run_dir.empty()) return plain_error(res, 404, "404 no run directory (start with --out DIR)");
+    if (!is_run_file(name)) return plain_error(res, 404, "404 not a run file");
+    const std::string path = impl->options.run_dir + "/" + name;
+    auto file = std::make_shared<std::ifstream>(path, std::ios::binary);
+    std::error_code ec;
+    const auto size = std::filesystem::file_size(path, ec);
+    if (!*file || ec) return plain_error(res, 404, "404 " + name + " is not in the run directory (yet)");
+    no_store(res);
+    if (name != "report.html") res.set_header("Content-Disposition", "attachment; filename=\"" + name + "\"");
+    // The arena may still be appending: serve the size seen now.
+    res.set_content_provider(static_cast<std::size_t>(size), std::string(content_type_for(name)),
+                             [file](std::size_t offset, std::size_t length, httplib::DataSink& sink) {
+                               char buffer[16384];
+                               file->seekg(static_cast<std::streamoff>(offset));
+                               const auto n = std::min(length, sizeof buffer);
+                               file->read(buffer, static_cast<std::streamsize>(n));
+                               const auto got = static_cast<std::size_t>(file->gcount());
+                               if (got == 0) return false;
+                               return sink.write(buffer, got);
+                             });
+  });
+
+  http.Get("/report", [impl](const httplib::Request&, httplib::Response& res) {
+    if (impl->options.run_dir.empty()) return plain_error(res, 404, "404 no run directory (start with --out DIR)");
+    no_store(res);
+    try {
+      res.set_content(render_report(impl->options.run_dir), "text/html; charset=utf-8");
+    } catch (const std::exception& e) {
+      plain_error(res, 409, std::string("409 no report yet: ") + e.what());
+    }
+  });
+}
+
+Server::~Server() { stop(); }
+
+int Server::bind(const HttpAddress& address) {
+  auto& http = impl_->http;
+  int port = address.port;
+  bool ok = false;
+  if (port == 0) {
+    port = http.bind_to_any_port(address.host);
+    ok = port > 0;
+  } else {
+    ok = http.bind_to_port(address.host, port);
+  }
+  if (!ok) {
+    auto why = probe_bind(address);
+    if (why.empty()) why = "cannot listen";
+    throw std::runtime_error(address.host + ":" + std::to_string(address.port) + ": " + why);
+  }
+  impl_->bound = true;
+  return port;
+}
+
+void Server::serve() {
+  if (!impl_->bound) throw std::logic_error("Server::serve() before bind()");
+  impl_->serving.store(true);
+  if (!impl_->stopping.load()) impl_->http.listen_after_bind();
+  impl_->serving.store(false);
+}
+
+void Server::stop() {
+  impl_->stopping.store(true);
+  // serve() may be between its start and httplib's running state: wait for either end.
+  while (impl_->serving.load() && !impl_->http.is_running()) std::this_thread::sleep_for(1ms);
+  if (impl_->http.is_running()) impl_->http.stop();
+}
+
+std::array<std::uint64_t, 6> Server::responses() const {
+  std::array<std::uint64_t, 6> out{};
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = impl_->responses[i].load();
+  return out;
+}
+
+}  // namespace retreat::bridge

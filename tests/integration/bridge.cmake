@@ -1,0 +1,18 @@
+# retreat-bridge tests (bridge/): the program with a scripted DDS source, bad input and bad
+# HTTP requests, a late start against a real swarm, and headless Chromium on the dashboard.
+# DDS domain ids 200..229 only (200 API, 201 late start, 202 browser). All HTTP on 127.0.0.1.
+# Included from tests/integration/CMakeLists.txt. Under 90 s in total.
+if(RETREAT_WITH_FASTDDS OR RETREAT_WITH_CYCLONEDDS)
+  retreat_test(bridge_test
+    SOURCES ${CMAKE_CURRENT_LIST_DIR}/bridge_api_test.cpp ${CMAKE_CURRENT_LIST_DIR}/bridge_input_test.cpp
+      ${CMAKE_CURRENT_LIST_DIR}/bridge_swarm_test.cpp ${CMAKE_CURRENT_LIST_DIR}/bridge_support.cpp
+    DEPS retreat::transports retreat::testing nlohmann_json::nlohmann_json PkgConfig::HTTPLIB
+    LABELS integration TIMEOUT 120)
+  target_include_directories(bridge_test PRIVATE ${PROJECT_SOURCE_DIR}/tests/unit/bridge)
+  target_compile_definitions(bridge_test PRIVATE
+    RETREAT_BRIDGE_BIN="$<TARGET_FILE:retreat-bridge>"
+    RETREAT_AGENT_BIN="$<TARGET_FILE:retreat-agent>"
+    RETREAT_ARENA_BIN="$<TARGET_FILE:retreat-arena>"
+    RETREAT_TEST_OUTPUT_DIR="${CMAKE_CURRENT_BINARY_DIR}/test-output")
+  add_dependencies(bridge_test retreat-bridge retreat-agent retreat-arena)
+endif()

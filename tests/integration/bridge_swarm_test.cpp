@@ -1,0 +1,209 @@
+// retreat-bridge with a real swarm (retreat-arena and four retreat-agent processes):
+//   - a bridge started after the arena shows the current population within one second;
+//   - headless Chromium shows the dashboard live: the population figure and the arena drawing
+//     update, a screenshot is saved, no page script error; at the end of the run the bridge
+//     writes report.html, which loads without a script error too.
+// DDS domains 201 and 202. Every process is stopped by PID.
+
+#include <gtest/gtest.h>
+
+#include <cctype>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <thread>
+
+#include "bridge_support.hpp"
+#include "retreat/transport/factory.hpp"
+
+namespace retreat {
+namespace {
+
+using namespace std::chrono_literals;
+using nlohmann::json;
+using testing::ChildProcess;
+using testing::eventually;
+using Clock = std::chrono::steady_clock;
+namespace fs = std::filesystem;
+namespace tb = testing::bridge;
+
+bool built(const std::string& vendor) {
+  const auto v = transport::dds_vendors();
+  return std::find(v.begin(), v.end(), vendor) != v.end();
+}
+
+struct Swarm {
+  std::vector<ChildProcess> agents;
+  std::optional<ChildProcess> arena;
+  ~Swarm() {
+    if (arena) arena->stop();
+    for (auto& a : agents) a.stop();
+  }
+};
+
+void start_swarm(Swarm& s, const std::string& scenario, const std::string& vendor, int domain, const std::string& out) {
+  for (int i = 0; i < 4; ++i) {
+    s.agents.emplace_back(std::vector<std::string>{RETREAT_AGENT_BIN, "--robot-id", std::to_string(i), "--scenario",
+                                                   scenario, "--dds", vendor, "--domain", std::to_string(domain)},
+                          out + "_agent" + std::to_string(i) + ".log");
+  }
+  s.arena.emplace(std::vector<std::string>{RETREAT_ARENA_BIN, "--scenario", scenario, "--dds", vendor, "--domain",
+                                           std::to_string(domain), "--out", out},
+                  out + "_arena.log");
+}
+
+/// The newest arena telemetry on `domain`, read by a participant of the test's own.
+class Watch {
+ public:
+  Watch(const std::string& vendor, int domain)
+      : transport_(transport::make_transport(vendor, {domain, "bridge-test-watch", "", ""})),
+        reader_(transport_->create_reader<wire::ArenaTelemetry>(
+            {wire::arena_telemetry_topic("retreat"), transport::QosIntent::state()})) {}
+  std::optional<wire::ArenaTelemetry> latest(std::chrono::milliseconds wait) {
+    transport_->wait(wait);
+    for (auto& t : reader_.take()) last_ = t;
+    return last_;
+  }
+
+ private:
+  std::unique_ptr<transport::Transport> transport_;
+  transport::Reader<wire::ArenaTelemetry> reader_;
+  std::optional<wire::ArenaTelemetry> last_;
+};
+
+TEST(BridgeSwarm, ABridgeStartedAfterTheArenaShowsTheCurrentPopulationWithinOneSecond) {
+  const std::string vendor = built("cyclonedds") ? "cyclonedds" : "fastdds";
+  const int domain = 201;
+  const std::string dir = ::testing::TempDir() + "/bridge_late";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string scenario = dir + "/scenario.yaml";
+  // Kinetic world in real time at 5x: 60 simulated seconds last 12 wall seconds, robots leave
+  // now and then (K_p = 0.1), so the population is a moving target.
+  std::ofstream(scenario) << "name: bridge-late\nseed: 5\n"
+                          << "agent: {L: 5, dt: 0.03, K_p: 0.1, lambda_in: 0.02}\n"
+                          << "arena: {encounter_model: kinetic, robots_inside: 3, robots_waiting: 1}\n"
+                          << "run: {mode: realtime, speed: 5, duration: 60, agent_timeout: 3, startup_timeout: 20}\n";
+  Swarm swarm;
+  start_swarm(swarm, scenario, vendor, domain, dir + "/run");
+  Watch watch(vendor, domain);
+  std::optional<wire::ArenaTelemetry> seen;
+  ASSERT_TRUE(eventually([&] { return (seen = watch.latest(50ms)) && seen->tick > 30; }, 30s))
+      << testing::read_file(dir + "/run_arena.log");
+
+  const auto started = Clock::now();
+  auto b = tb::start_bridge({"--scenario", scenario, "--dds", vendor, "--domain", std::to_string(domain), "--http",
+                             "127.0.0.1:0"},
+                            dir + "/bridge.log");
+  ASSERT_FALSE(b.url.empty()) << testing::read_file(b.log);
+  const auto serving = Clock::now();
+  json state;
+  const bool shown = eventually(
+      [&] {
+        const auto r = tb::get(b.port, "/api/state", 2s);
+        if (!r || r->status != 200) return false;
+        state = json::parse(r->body);
+        return !state["telemetry"].is_null();
+      },
+      3s);
+  const auto shown_at = Clock::now();
+  ASSERT_TRUE(shown) << testing::read_file(b.log);
+  const double since_serving = std::chrono::duration<double>(shown_at - serving).count();
+  const double since_start = std::chrono::duration<double>(shown_at - started).count();
+  std::fprintf(stderr, "late bridge (%s): population shown %.3f s after it served, %.3f s after it started\n",
+               vendor.c_str(), since_serving, since_start);
+  EXPECT_LE(since_serving, 1.0);
+  // The population shown is the arena's current one: the newest our own reader has seen (the
+  // arena publishes 10 times per simulated second; allow the one sample in flight).
+  const auto now = watch.latest(0ms);
+  ASSERT_TRUE(now);
+  EXPECT_GE(state["telemetry"]["tick"].get<std::int64_t>(), seen->tick);
+  const auto inside = state["telemetry"]["inside"].get<std::uint32_t>();
+  EXPECT_LE(inside, 4u);
+  if (state["telemetry"]["tick"].get<std::int64_t>() == now->tick) {
+    EXPECT_EQ(inside, now->inside);
+  }
+  EXPECT_EQ(b.process->stop(), 0) << testing::read_file(b.log);
+}
+
+TEST(BridgeBrowser, ChromiumShowsTheLiveSwarmAndTheReport) {
+  if (!tb::Browser::available()) GTEST_SKIP() << "no chromium (deploy/install-deps.sh installs it)";
+  const std::string vendor = built("fastdds") ? "fastdds" : "cyclonedds";
+  const int domain = 202;
+  const std::string dir = ::testing::TempDir() + "/bridge_browser";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string scenario = dir + "/scenario.yaml";
+  const std::string run = dir + "/run";
+  // The physical world (positions to draw), 3 robots inside and 1 waiting, in real time at 4x:
+  // 48 simulated seconds take 12 wall seconds. Encounters recorded for the report.
+  std::ofstream(scenario) << "name: bridge-browser\nseed: 7\n"
+                          << "agent: {L: 6, dt: 0.03, K_p: 0.1, lambda_in: 0.02}\n"
+                          << "arena: {encounter_model: physical, robots_inside: 3, robots_waiting: 1, "
+                             "record_encounters: true}\n"
+                          << "run: {mode: realtime, speed: 4, duration: 48, agent_timeout: 3, startup_timeout: 20}\n";
+  // The bridge first, so that it records every agent status from the start.
+  auto b = tb::start_bridge({"--scenario", scenario, "--dds", vendor, "--domain", std::to_string(domain), "--http",
+                             "127.0.0.1:0", "--out", run},
+                            dir + "/bridge.log");
+  ASSERT_FALSE(b.url.empty()) << testing::read_file(b.log);
+  Swarm swarm;
+  start_swarm(swarm, scenario, vendor, domain, run);
+
+  tb::Browser browser(dir + "/chromium-profile", 1440, 1000, dir + "/chromium.log");
+  browser.navigate(b.url);
+  // Wait until the page shows a population from the swarm, has drawn the arena with several
+  // different poses, and plotted a few points.
+  json probe;
+  std::set<std::int64_t> ticks;
+  const bool live = eventually(
+      [&] {
+        probe = browser.evaluate(
+            "({inside: document.getElementById('inside').textContent,"
+            "  tick: Number(document.getElementById('arena').dataset.tick),"
+            "  frames: window.retreatDashboard ? window.retreatDashboard.arenaFrames : 0,"
+            "  robots: window.retreatDashboard ? window.retreatDashboard.robotsDrawn : 0,"
+            "  points: window.retreatDashboard ? window.retreatDashboard.points : 0,"
+            "  link: document.getElementById('link').dataset.state})");
+        if (!probe.is_object()) return false;
+        if (probe["tick"].is_number() && probe["tick"].get<double>() >= 0) ticks.insert(probe["tick"].get<std::int64_t>());
+        const auto inside = probe["inside"].get<std::string>();
+        return !inside.empty() && std::isdigit(static_cast<unsigned char>(inside[0])) && ticks.size() >= 3 &&
+               probe["robots"].get<int>() > 0 && probe["points"].get<int>() >= 5;
+      },
+      30s);
+  // The picture: later in the run (36 of 48 simulated seconds) there is more to see; the run
+  // goes on until then anyway.
+  eventually(
+      [&] {
+        const auto t = browser.evaluate("window.retreatDashboard.time");
+        return t.is_number() && t.get<double>() >= 36.0;
+      },
+      15s);
+  std::this_thread::sleep_for(300ms);
+  const std::string shot = tb::output_dir() + "/bridge_dashboard.png";
+  browser.screenshot(shot);
+  ASSERT_TRUE(live) << probe.dump() << "\n" << testing::read_file(b.log);
+  EXPECT_EQ(probe["link"], "live");
+  EXPECT_TRUE(fs::file_size(shot) > 10000) << shot;
+  EXPECT_TRUE(browser.errors().empty()) << [&] {
+    std::string all;
+    for (const auto& e : browser.errors()) all += e + "\n";
+    return all;
+  }();
+
+  // The run ends; the bridge sees summary.json and writes report.html.
+  ASSERT_TRUE(swarm.arena->wait_for(60s).has_value()) << testing::read_file(run + "_arena.log");
+  ASSERT_TRUE(eventually([&] { return fs::exists(run + "/report.html"); }, 10s)) << testing::read_file(b.log);
+  browser.navigate("file://" + run + "/report.html");
+  ASSERT_TRUE(eventually([&] { return browser.evaluate("document.body.dataset.ready") == "1"; }, 10s));
+  // Population, throughput, estimates; inter-encounter times too when the run had two gaps.
+  EXPECT_GE(browser.evaluate("document.querySelectorAll('.uplot').length").get<int>(), 3);
+  browser.screenshot(tb::output_dir() + "/bridge_report.png");
+  EXPECT_TRUE(browser.errors().empty()) << browser.errors().front();
+  EXPECT_EQ(b.process->stop(), 0) << testing::read_file(b.log);
+  std::fprintf(stderr, "screenshots: %s, %s/bridge_report.png\n", shot.c_str(), tb::output_dir().c_str());
+}
+
+}  // namespace
+}  // namespace retreat
