@@ -5,5 +5,6 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${RETREAT_BUILD_DIR:-$root/build}
 "$root/deploy/install-deps.sh"
+"$root/deploy/install-web-deps.sh" "$build/web-deps"
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo "$@" >/dev/null
 cmake --build "$build" -j"$(nproc)"
