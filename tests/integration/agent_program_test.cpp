@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 
+#include <algorithm>
 #include <fstream>
 #include <map>
 #include <set>
@@ -22,6 +23,13 @@ namespace {
 using namespace std::chrono_literals;
 using testing::ChildProcess;
 using testing::eventually;
+
+/// This test's name as a file name part (parameterised names contain '/').
+std::string tag_of_test() {
+  std::string tag = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  std::replace(tag.begin(), tag.end(), '/', '_');
+  return tag;
+}
 
 struct Vendor {
   const char* name;
@@ -48,7 +56,7 @@ class AgentProgram : public ::testing::TestWithParam<Vendor> {
   ChildProcess start_agent(const std::string& scenario, int domain, std::uint32_t robot) {
     return ChildProcess({RETREAT_AGENT_BIN, "--robot-id", std::to_string(robot), "--scenario", scenario,
                          "--dds", GetParam().name, "--domain", std::to_string(domain)},
-                        ::testing::TempDir() + "/agent_program_" + GetParam().name + ".log");
+                        ::testing::TempDir() + "/agent_program_" + tag_of_test() + ".log");
   }
 };
 

@@ -24,7 +24,10 @@ const std::string tmp = ::testing::TempDir();
 /// A small, fast swarm: 4 robots at λ = 1.33 robots/m² in the kinetic world, L = 10 s, K_p =
 /// 0.1 so that robots do retreat within a minute (λ̂ is noisy and often above λ* = 1.51).
 std::string small_scenario(double duration = 60) {
-  const std::string path = tmp + "/arena_small_" + std::to_string(static_cast<int>(duration)) + ".yaml";
+  // One file per test: ctest runs the tests of this file in parallel processes.
+  const std::string path = tmp + "/arena_small_" +
+                           ::testing::UnitTest::GetInstance()->current_test_info()->name() + "_" +
+                           std::to_string(static_cast<int>(duration)) + ".yaml";
   std::ofstream(path) << "name: arena-small\nseed: 11\n"
                       << "agent: {L: 10, dt: 0.03, K_p: 0.1, lambda_in: 0.02}\n"
                       << "arena: {encounter_model: kinetic, robots_inside: 3, robots_waiting: 1}\n"

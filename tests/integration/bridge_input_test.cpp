@@ -23,14 +23,20 @@ namespace fs = std::filesystem;
 namespace tb = testing::bridge;
 
 std::string scenario_file() {
-  const std::string path = ::testing::TempDir() + "/bridge_input.yaml";
+  // One file per test: ctest runs the tests of this file in parallel processes.
+  const std::string path = ::testing::TempDir() + "/bridge_input_" +
+                           ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".yaml";
   std::ofstream(path) << "name: bridge-input\narena: {encounter_model: kinetic}\n";
   return path;
 }
 
 /// Runs the bridge to its exit (at most 20 s); returns the exit code and its whole output.
 std::pair<int, std::string> run_to_exit(const std::vector<std::string>& args) {
-  const std::string log = ::testing::TempDir() + "/bridge_input_run.log";
+  // One log per run: ctest runs the tests of this file in parallel processes.
+  static int run = 0;
+  const std::string log = ::testing::TempDir() + "/bridge_input_" +
+                          ::testing::UnitTest::GetInstance()->current_test_info()->name() + "_" +
+                          std::to_string(++run) + ".log";
   std::vector<std::string> argv = {RETREAT_BRIDGE_BIN};
   argv.insert(argv.end(), args.begin(), args.end());
   ChildProcess p(argv, log);
