@@ -42,7 +42,7 @@ using namespace retreat;
 
 extern "C" void on_signal(int signo) { launch::stop_signal.store(signo); }
 
-/// Domains a launcher picks by itself (tests use 160..229; 0 is every tool's default).
+/// Domains a launcher picks by itself (0 is every tool's default). Tests always name theirs.
 constexpr int first_free_domain = 1;
 constexpr int last_free_domain = 99;
 

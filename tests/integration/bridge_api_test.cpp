@@ -1,7 +1,7 @@
 // retreat-bridge as a program, fed by a scripted DDS participant (no arena): every endpoint is
 // well-formed with the expected numbers, /metrics parses as Prometheus text, the event stream
 // follows a change, the run files download, the bridge matches only the three observation
-// topics, and SIGTERM ends it with exit code 0 and a report. DDS domain 200.
+// topics, and SIGTERM ends it with exit code 0 and a report. DDS domain 98.
 
 #include <gtest/gtest.h>
 #include <httplib.h>
@@ -23,7 +23,7 @@ using testing::eventually;
 namespace fs = std::filesystem;
 namespace tb = testing::bridge;
 
-constexpr int api_domain = 200;
+constexpr int api_domain = 98;
 
 std::string vendor() {
   const auto v = transport::dds_vendors();

@@ -3,7 +3,7 @@
 //   - headless Chromium shows the dashboard live: the population figure and the arena drawing
 //     update, a screenshot is saved, no page script error; at the end of the run the bridge
 //     writes report.html, which loads without a script error too.
-// DDS domains 201 and 202. Every process is stopped by PID.
+// DDS domains 99 and 100. Every process is stopped by PID.
 
 #include <gtest/gtest.h>
 
@@ -73,7 +73,7 @@ class Watch {
 
 TEST(BridgeSwarm, ABridgeStartedAfterTheArenaShowsTheCurrentPopulationWithinOneSecond) {
   const std::string vendor = built("cyclonedds") ? "cyclonedds" : "fastdds";
-  const int domain = 201;
+  const int domain = 99;
   const std::string dir = ::testing::TempDir() + "/bridge_late";
   fs::remove_all(dir);
   fs::create_directories(dir);
@@ -129,7 +129,7 @@ TEST(BridgeSwarm, ABridgeStartedAfterTheArenaShowsTheCurrentPopulationWithinOneS
 TEST(BridgeBrowser, ChromiumShowsTheLiveSwarmAndTheReport) {
   if (!tb::Browser::available()) GTEST_SKIP() << "no chromium (deploy/install-deps.sh installs it)";
   const std::string vendor = built("fastdds") ? "fastdds" : "cyclonedds";
-  const int domain = 202;
+  const int domain = 100;
   const std::string dir = ::testing::TempDir() + "/bridge_browser";
   fs::remove_all(dir);
   fs::create_directories(dir);

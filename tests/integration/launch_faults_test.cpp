@@ -12,10 +12,10 @@
 namespace retreat::launch_test {
 namespace {
 
-// Domain ids of this file: 164, 165, 167.
-constexpr int domain_kill_agents = 164;
-constexpr int domain_kill_arena = 165;
-constexpr int domain_stop_launcher = 167;
+// Domain ids of this file: 54, 55, 57.
+constexpr int domain_kill_agents = 54;
+constexpr int domain_kill_arena = 55;
+constexpr int domain_stop_launcher = 57;
 
 /// Waits for `<out>/processes.json` (written once every child has started).
 json wait_for_processes(const std::string& out) {

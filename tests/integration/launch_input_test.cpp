@@ -13,9 +13,9 @@
 namespace retreat::launch_test {
 namespace {
 
-// Domain ids of this file: 169 (held by the test itself); 229 named in refused launches (never
+// Domain ids of this file: 59 (held by the test itself); 64 named in refused launches (never
 // joined: the launcher refuses before it takes a domain).
-constexpr int domain_held = 169;
+constexpr int domain_held = 59;
 
 void expect_refused(const std::string& name, const std::vector<std::string>& args) {
   const auto dir = fresh_dir("input-" + name);
@@ -27,19 +27,19 @@ void expect_refused(const std::string& name, const std::vector<std::string>& arg
 }
 
 TEST(LaunchInput, BadInputIsRefusedWithExitCodeTwoAndNothingStarted) {
-  expect_refused("missing-scenario", {scenarios + "/no-such-scenario.yaml", "--domain", "229"});
-  expect_refused("seeds-backwards", {robotarium, "--seeds", "5:2", "--domain", "229"});
-  expect_refused("seeds-not-numbers", {robotarium, "--seeds", "a:b", "--domain", "229"});
-  expect_refused("unknown-dds", {robotarium, "--dds", "zenoh", "--domain", "229"});
-  expect_refused("unknown-key", {robotarium, "--set", "arena.colour=blue", "--domain", "229"});
-  expect_refused("unknown-section", {robotarium, "--set", "physics.dt=1", "--domain", "229"});
-  expect_refused("bad-value", {robotarium, "--set", "run.duration=-1", "--domain", "229"});
+  expect_refused("missing-scenario", {scenarios + "/no-such-scenario.yaml", "--domain", "64"});
+  expect_refused("seeds-backwards", {robotarium, "--seeds", "5:2", "--domain", "64"});
+  expect_refused("seeds-not-numbers", {robotarium, "--seeds", "a:b", "--domain", "64"});
+  expect_refused("unknown-dds", {robotarium, "--dds", "zenoh", "--domain", "64"});
+  expect_refused("unknown-key", {robotarium, "--set", "arena.colour=blue", "--domain", "64"});
+  expect_refused("unknown-section", {robotarium, "--set", "physics.dt=1", "--domain", "64"});
+  expect_refused("bad-value", {robotarium, "--set", "run.duration=-1", "--domain", "64"});
   expect_refused("domain-out-of-range", {robotarium, "--domain", "300"});
-  expect_refused("seed-and-seeds", {robotarium, "--seed", "1", "--seeds", "1:2", "--domain", "229"});
+  expect_refused("seed-and-seeds", {robotarium, "--seed", "1", "--seeds", "1:2", "--domain", "64"});
   expect_refused("dds-in-process", {robotarium, "--in-process", "--dds", "fastdds"});
   expect_refused("realtime-in-process", {robotarium, "--in-process", "--set", "run.mode=realtime"});
   expect_refused("unknown-option", {robotarium, "--frobnicate"});
-  expect_refused("missing-programs", {robotarium, "--bin-dir", "/nonexistent", "--domain", "229"});
+  expect_refused("missing-programs", {robotarium, "--bin-dir", "/nonexistent", "--domain", "64"});
 }
 
 TEST(LaunchInput, ADomainInUseByAnotherLaunchIsRefused) {

@@ -29,7 +29,7 @@
 namespace retreat::launch_test {
 namespace {
 
-// Domain ids of this file: 166 (Fast DDS observer), 170 (Cyclone DDS observer).
+// Domain ids of this file: 56 (Fast DDS observer), 60 (Cyclone DDS observer).
 constexpr std::uint32_t robots = 12;
 
 constexpr transport::QosIntent match_any_writer{transport::Reliability::best_effort,
@@ -260,7 +260,7 @@ TEST_P(LaunchIsolation, EveryAgentIsMatchedOnlyWithItsOwnRobotsTopicsInARunningS
 }
 
 INSTANTIATE_TEST_SUITE_P(Observer, LaunchIsolation,
-                         ::testing::Values(ObserverCase{"fastdds", 166}, ObserverCase{"cyclonedds", 170}),
+                         ::testing::Values(ObserverCase{"fastdds", 56}, ObserverCase{"cyclonedds", 60}),
                          [](const auto& test) { return std::string(test.param.vendor); });
 
 }  // namespace

@@ -11,15 +11,15 @@
 namespace retreat::launch_test {
 namespace {
 
-// Domain ids of this file: 160..163, 168, 171, 172, 174.
-constexpr int domain_fastdds = 160;
-constexpr int domain_cyclonedds = 161;
-constexpr int domain_mixed = 162;
-constexpr int domain_kinetic = 163;
-constexpr int domain_realtime = 168;
-constexpr int domain_endless = 171;
-constexpr int domain_bridge = 172;
-constexpr int domain_seed = 174;
+// Domain ids of this file: 50..53, 58, 61, 62, 63.
+constexpr int domain_fastdds = 50;
+constexpr int domain_cyclonedds = 51;
+constexpr int domain_mixed = 52;
+constexpr int domain_kinetic = 53;
+constexpr int domain_realtime = 58;
+constexpr int domain_endless = 61;
+constexpr int domain_bridge = 62;
+constexpr int domain_seed = 63;
 
 std::vector<std::string> args(std::vector<std::string> head, const std::vector<std::string>& tail) {
   head.insert(head.end(), tail.begin(), tail.end());

@@ -4,7 +4,7 @@
 /// run directory's JSON files, check that processes are gone. Assertions are on exit codes and
 /// files the launcher and the arena write, never on log text.
 ///
-/// Domain ids: the launch tests use 160..229 only, one per TEST (the constants are in each file).
+/// Domain ids: the launch tests use 50..64 only, one per TEST (the constants are in each file).
 
 #include <signal.h>
 #include <sys/types.h>
