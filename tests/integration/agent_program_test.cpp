@@ -269,11 +269,8 @@ TEST(AgentProgramBadInput, EachBadValueGivesOneLineNamingItAndExitCodeTwo) {
     std::vector<std::string> argv = {RETREAT_AGENT_BIN};
     argv.insert(argv.end(), c.args.begin(), c.args.end());
     const std::string log = dir + "/agent_bad_input.log";
-    ChildProcess p(argv, log);
-    const auto code = p.wait_for(10s);
-    ASSERT_TRUE(code.has_value());
-    EXPECT_EQ(*code, 2) << c.expected;
-    const auto text = testing::read_file(log);
+    const auto [code, text] = testing::run_to_exit(argv, log);
+    EXPECT_EQ(code, 2) << c.expected;
     EXPECT_NE(text.find(c.expected), std::string::npos) << "expected '" << c.expected << "' in: " << text;
     EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 1) << "not one line: " << text;
   }

@@ -39,10 +39,7 @@ std::pair<int, std::string> run_to_exit(const std::vector<std::string>& args) {
                           std::to_string(++run) + ".log";
   std::vector<std::string> argv = {RETREAT_BRIDGE_BIN};
   argv.insert(argv.end(), args.begin(), args.end());
-  ChildProcess p(argv, log);
-  const auto code = p.wait_for(20s);
-  if (!code) p.stop();
-  return {code.value_or(-1), testing::read_file(log)};
+  return testing::run_to_exit(argv, log, 20s);
 }
 
 void expect_one_line_and_exit_2(const std::vector<std::string>& args, const std::string& expected) {

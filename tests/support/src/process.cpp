@@ -93,6 +93,15 @@ std::string read_file(const std::string& path) {
   return s.str();
 }
 
+std::pair<int, std::string> run_to_exit(const std::vector<std::string>& argv,
+                                        const std::string& log_path,
+                                        std::chrono::milliseconds timeout) {
+  ChildProcess p(argv, log_path);
+  const auto code = p.wait_for(timeout);
+  if (!code) p.stop();
+  return {code.value_or(-1), read_file(log_path)};
+}
+
 int domain_for_test(const std::string& test_name, int first, int count) {
   return first + static_cast<int>(std::hash<std::string>{}(test_name) % static_cast<std::size_t>(count));
 }

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace retreat::testing {
@@ -39,6 +40,12 @@ class ChildProcess {
 
 /// Reads a whole file (empty string if it cannot be read).
 std::string read_file(const std::string& path);
+
+/// Runs `argv` to its exit (SIGKILL after `timeout`) with its output in `log_path`; returns the
+/// exit code (-1 on timeout) and the whole output.
+std::pair<int, std::string> run_to_exit(const std::vector<std::string>& argv,
+                                        const std::string& log_path,
+                                        std::chrono::milliseconds timeout = std::chrono::milliseconds(10000));
 
 /// Repeats `predicate` every few milliseconds until it is true or `timeout` passes.
 template <class Predicate>
