@@ -286,7 +286,7 @@ TEST(TransportContract, AMissingOrMalformedProfileIsRefusedWithItsPath) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("dds.profile = '/nonexistent/profile.xml'"), std::string::npos) << e.what();
   }
-  const std::string bad = ::testing::TempDir() + "/retreat_bad_profile.xml";
+  const std::string bad = ::testing::TempDir() + "/retreat_bad_profile_" + std::string(vendor) + ".xml";
   std::ofstream(bad) << "<this is not xml";
   options.profile = bad;
   try {

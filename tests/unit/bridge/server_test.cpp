@@ -36,7 +36,9 @@ telemetry::RunInfo run() {
 class ServerTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    run_dir_ = ::testing::TempDir() + "/server_test_run";
+    // One directory per test: ctest runs this file's tests in parallel processes.
+    run_dir_ = ::testing::TempDir() + "/server_test_" +
+               ::testing::UnitTest::GetInstance()->current_test_info()->name();
     fs::create_directories(run_dir_);
     std::ofstream(run_dir_ + "/telemetry.csv") << "tick,time,inside\n0,0,3\n";
     auto bus = transport::make_inmemory_bus();
