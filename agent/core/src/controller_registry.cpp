@@ -3,6 +3,8 @@
 #include <array>
 #include <stdexcept>
 
+#include "retreat/agent/confident_controller.hpp"
+#include "retreat/agent/influx_aware_controller.hpp"
 #include "retreat/agent/paper_controller.hpp"
 
 namespace retreat::agent {
@@ -18,9 +20,17 @@ std::unique_ptr<Controller> make() {
   return std::make_unique<C>();
 }
 
+std::unique_ptr<Controller> make_confident_influx_aware() {
+  return std::make_unique<InfluxAwareController>(ConfidentController::default_z,
+                                                 InfluxAwareController::confident_name);
+}
+
 // Every controller, one line each. A new controller is a new file plus one line here.
 constexpr std::array registry{
     Registration{PaperController::registered_name, &make<PaperController>},
+    Registration{ConfidentController::registered_name, &make<ConfidentController>},
+    Registration{InfluxAwareController::registered_name, &make<InfluxAwareController>},
+    Registration{InfluxAwareController::confident_name, &make_confident_influx_aware},
 };
 
 const Registration* find(std::string_view name) {

@@ -5,7 +5,7 @@
 
 namespace retreat::agent {
 
-double PaperController::retreat_probability(const ControllerInput& input) const {
+double PaperController::retreat_probability(const ControllerInput& input) {
   const double rate = model::epsilon(input.lambda_hat, model::lambda_star(input.model),
                                      input.agent.lambda_in, input.agent.K_p);
   return rate * input.dt;

@@ -44,7 +44,8 @@ TEST(AgentParams, RejectsADecisionPeriodLongerThanTheWindow) {
 TEST(AgentParams, RejectsAnUnknownControllerListingTheValidNames) {
   AgentParams p;
   p.controller = "foo";
-  EXPECT_EQ(validation_message(p), "agent.controller = 'foo': must be one of paper");
+  EXPECT_EQ(validation_message(p), "agent.controller = 'foo': must be one of paper, confident, "
+                                  "influx-aware, confident-influx-aware");
 }
 
 TEST(AgentParams, NamesTheFieldAndTheValueOfEveryOutOfRangeNumber) {

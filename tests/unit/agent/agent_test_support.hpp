@@ -40,7 +40,7 @@ inline AgentParams short_window_params(double gain = 0.2) {
 class FixedProbability final : public Controller {
  public:
   explicit FixedProbability(double p) : p_(p) {}
-  double retreat_probability(const ControllerInput&) const override { return p_; }
+  double retreat_probability(const ControllerInput&) override { return p_; }
   std::string_view name() const override { return "fixed"; }
 
  private:

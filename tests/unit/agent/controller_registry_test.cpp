@@ -46,7 +46,7 @@ TEST(PaperController, ReturnsEpsilonOfTheEstimateTimesDt) {
   const model::ModelParams model;
   const AgentParams agent;
   const OnsetWindow window(agent.L);
-  const PaperController controller;
+  PaperController controller;
   const double lambda_star = model::lambda_star(model);
   for (const double lambda_hat : {0.0, 1.0, lambda_star, 1.6, 3.0, 100.0}) {
     const ControllerInput input{90.0, 90.0, 0, agent.L, agent.dt, lambda_hat, model, agent, window};

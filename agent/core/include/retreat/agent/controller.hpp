@@ -28,13 +28,18 @@ struct ControllerInput {
 /// A named rule turning the robot's own information into a retreat probability for one step.
 /// Implementations are registered by name in controller_registry.cpp. They draw no random
 /// numbers: the agent owns the generator and flips the coin.
+///
+/// Each robot's agent owns its own instance and calls it once per decision step, in time order.
+/// A controller may keep state, but only state built from the inputs it has been given: the
+/// ControllerInput of this and earlier steps is all it ever sees (no transport, no other robot,
+/// no ground truth; the agent_core library cannot even link them).
 class Controller {
  public:
   virtual ~Controller() = default;
 
   /// Probability of retreating at this step [-]. May fall outside [0, 1]; the agent clamps it.
-  /// Must not be NaN.
-  virtual double retreat_probability(const ControllerInput& input) const = 0;
+  /// Must not be NaN. Called once per decision step with non-decreasing `input.time`.
+  virtual double retreat_probability(const ControllerInput& input) = 0;
 
   /// The registered name (`paper`, ...), as written in the scenario's `agent.controller`.
   virtual std::string_view name() const = 0;

@@ -18,7 +18,7 @@ class PaperController final : public Controller {
   static constexpr std::string_view registered_name = "paper";
 
   /// ε(λ̂)·dt [-] (>= 0; may exceed 1, the agent clamps).
-  double retreat_probability(const ControllerInput& input) const override;
+  double retreat_probability(const ControllerInput& input) override;
 
   std::string_view name() const override { return registered_name; }
 };

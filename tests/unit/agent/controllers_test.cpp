@@ -1,0 +1,205 @@
+// The named controllers beside `paper` (agent/core; their designs and measured effects are in
+// docs/experiments.md), and the one guarantee they all share: a controller sees only the
+// robot's own data.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <type_traits>
+
+#include "retreat/agent/confident_controller.hpp"
+#include "retreat/agent/controller_registry.hpp"
+#include "retreat/agent/influx_aware_controller.hpp"
+#include "retreat/model/control.hpp"
+#include "retreat/model/encounter.hpp"
+#include "retreat/model/estimation.hpp"
+#include "retreat/model/optimum.hpp"
+
+namespace retreat::agent {
+namespace {
+
+// --- Only the robot's own data, by construction ------------------------------------------
+// ControllerInput is the whole of what a controller is given (Controller::retreat_probability
+// takes nothing else, and agent_core is a PURE library that cannot link the transport, the
+// scenario loader or the physics: deploy/cmake/RetreatHelpers.cmake refuses). The binding
+// below compiles only while ControllerInput has exactly these nine members of these types; a
+// field carrying ground truth or another robot's data cannot be added without editing it.
+constexpr bool input_is_only_own_data() {
+  using I = ControllerInput;
+  static_assert(std::is_aggregate_v<I>);
+  I* input = nullptr;
+  if (input == nullptr) return true;  // never binds: only the declaration below matters
+  auto& [time, time_inside, onsets, L, dt, lambda_hat, model, agent, window] = *input;
+  static_assert(std::is_same_v<decltype(time), double>);
+  static_assert(std::is_same_v<decltype(time_inside), double>);
+  static_assert(std::is_same_v<decltype(onsets), std::uint64_t>);
+  static_assert(std::is_same_v<decltype(L), double>);
+  static_assert(std::is_same_v<decltype(dt), double>);
+  static_assert(std::is_same_v<decltype(lambda_hat), double>);
+  static_assert(std::is_same_v<decltype(model), const model::ModelParams&>);
+  static_assert(std::is_same_v<decltype(agent), const AgentParams&>);
+  static_assert(std::is_same_v<decltype(window), const OnsetWindow&>);
+  return true;
+}
+static_assert(input_is_only_own_data());
+
+// The robot's own window as the agent would hand it over: `onsets` onsets, at time t.
+struct Step {
+  model::ModelParams model;
+  AgentParams agent;
+  OnsetWindow window{90.0};
+
+  ControllerInput at(double t, std::uint64_t onsets) const {
+    return ControllerInput{t,       t,     onsets, agent.L, agent.dt, model::mle_density(onsets, model.delta, model.v, agent.L),
+                           model,   agent, window};
+  }
+  double lambda_star() const { return model::lambda_star(model); }
+  // The window count whose MLE is closest to `lambda` [robots/m²].
+  std::uint64_t onsets_for(double lambda) const {
+    return static_cast<std::uint64_t>(std::lround(lambda * model::swept_rate(model) * agent.L));
+  }
+};
+
+TEST(Controllers, AreAllRegisteredAfterThePaperController) {
+  const auto names = controller_names();
+  ASSERT_EQ(names.size(), 4U);
+  EXPECT_EQ(names[0], "paper");
+  EXPECT_EQ(names[1], "confident");
+  EXPECT_EQ(names[2], "influx-aware");
+  EXPECT_EQ(names[3], "confident-influx-aware");
+}
+
+// --- confident ------------------------------------------------------------------------------
+
+TEST(ConfidentController, WithZZeroTheLoweredEstimateIsTheMle) {
+  const Step s;
+  for (const std::uint64_t y : {0, 1, 7, 20, 1000}) {
+    EXPECT_NEAR(lower_confidence_density(y, s.model, s.agent.L, 0.0),
+                model::mle_density(y, s.model.delta, s.model.v, s.agent.L), 1e-12);
+  }
+}
+
+TEST(ConfidentController, LowersTheCountByZPoissonStandardDeviations) {
+  const Step s;
+  const double c_L = model::swept_rate(s.model) * s.agent.L;  // onsets per unit density
+  EXPECT_NEAR(lower_confidence_density(16, s.model, s.agent.L, 1.0), (16.0 - 4.0) / c_L, 1e-12);
+  EXPECT_NEAR(lower_confidence_density(16, s.model, s.agent.L, 2.0), (16.0 - 8.0) / c_L, 1e-12);
+  EXPECT_EQ(lower_confidence_density(1, s.model, s.agent.L, 2.0), 0.0);  // never negative
+}
+
+TEST(ConfidentController, StaysWhereThePaperWouldLeaveOnAnEstimateWithinOneSigmaOfTheOptimum) {
+  const Step s;
+  // λ* gives ≈ 6.9 onsets in L; 9 onsets put λ̂ above λ* but 9 − 3 below it.
+  const std::uint64_t y = 9;
+  const auto input = s.at(100.0, y);
+  ASSERT_GT(input.lambda_hat, s.lambda_star());
+  ASSERT_LT(lower_confidence_density(y, s.model, s.agent.L, 1.0), s.lambda_star());
+  ConfidentController confident;
+  EXPECT_EQ(confident.retreat_probability(input), 0.0);
+  EXPECT_GT(make_controller("paper")->retreat_probability(input), 0.0);
+}
+
+TEST(ConfidentController, FarAboveTheOptimumLeavesAtThePaperRateOfTheLoweredEstimate) {
+  const Step s;
+  const std::uint64_t y = 40;
+  const double low = lower_confidence_density(y, s.model, s.agent.L, 1.0);
+  ASSERT_GT(low, s.lambda_star());
+  ConfidentController confident;
+  EXPECT_DOUBLE_EQ(confident.retreat_probability(s.at(100.0, y)),
+                   model::epsilon(low, s.lambda_star(), s.agent.lambda_in, s.agent.K_p) * s.agent.dt);
+}
+
+TEST(ConfidentController, RejectsANegativeOrNonFiniteZ) {
+  EXPECT_THROW(ConfidentController{-1.0}, std::invalid_argument);
+  EXPECT_THROW(ConfidentController{NAN}, std::invalid_argument);
+  EXPECT_THROW(InfluxAwareController{INFINITY}, std::invalid_argument);
+}
+
+// --- influx-aware ---------------------------------------------------------------------------
+
+// Runs the controller at every decision step from t0 to t1 with the onsets onsets(t) and
+// returns the last step's probability.
+template <typename Onsets>
+double run_steps(Controller& controller, const Step& s, double t0, double t1, Onsets onsets) {
+  double p = 0.0;
+  for (std::int64_t k = 0;; ++k) {
+    const double t = t0 + static_cast<double>(k) * s.agent.dt;
+    if (t > t1) break;
+    p = controller.retreat_probability(s.at(t, onsets(t)));
+  }
+  return p;
+}
+
+TEST(InfluxAwareController, CompensatesNoInfluxBeforeItHasTwoWindows) {
+  const Step s;
+  InfluxAwareController controller;
+  const std::uint64_t y = s.onsets_for(3.0);  // well above λ*
+  const double p = run_steps(controller, s, 90.0, 179.0, [&](double) { return y; });
+  EXPECT_EQ(controller.last_influx_estimate(), 0.0);
+  const double lambda_hat = s.at(0.0, y).lambda_hat;
+  EXPECT_DOUBLE_EQ(p, model::epsilon(lambda_hat, s.lambda_star(), 0.0, s.agent.K_p) * s.agent.dt);
+}
+
+TEST(InfluxAwareController, ADensityHeldUpWhileTheRobotKeepsLeavingMeansAnInfluxOfLambdaIn) {
+  // Above λ* the robot's own rate implies an outflow K_p (λ̂ − λ*) + λ̂_in > 0; a density that
+  // nevertheless stays put over two windows can only be fed by arrivals: the estimate climbs
+  // to the configured ceiling λ_in and the rule becomes the paper's.
+  const Step s;
+  InfluxAwareController controller;
+  const std::uint64_t y = s.onsets_for(3.0);
+  const double p = run_steps(controller, s, 90.0, 90.0 + 6 * s.agent.L, [&](double) { return y; });
+  EXPECT_DOUBLE_EQ(controller.last_influx_estimate(), s.agent.lambda_in);
+  EXPECT_DOUBLE_EQ(p, make_controller("paper")->retreat_probability(s.at(0.0, y)));
+}
+
+TEST(InfluxAwareController, BelowTheOptimumTheEstimateIsTheDensitysOwnRiseRate) {
+  // Below λ* nobody leaves (ε = 0), so the influx is the measured rise: count y(t) = y0 + g·t
+  // gives dλ̂/dt = g / (cL), under the ceiling λ_in.
+  const Step s;
+  const double c_L = model::swept_rate(s.model) * s.agent.L;
+  const double g = 0.01;  // onsets per window per second: dλ̂/dt = 0.0022 robots/(m²·s)
+  InfluxAwareController controller;
+  // y must be whole: sample only where g·t is whole (every 100 s), hold it between.
+  const auto onsets = [&](double t) { return static_cast<std::uint64_t>(std::floor(g * t)); };
+  run_steps(controller, s, 90.0, 90.0 + 3 * s.agent.L, onsets);
+  // Over the last L the count rose by g·L ± 1 (whole onsets): the estimate is within 1/(cL·L).
+  EXPECT_NEAR(controller.last_influx_estimate(), g / c_L, 1.0 / (c_L * s.agent.L));
+  EXPECT_GT(controller.last_influx_estimate(), 0.0);
+  EXPECT_LT(controller.last_influx_estimate(), s.agent.lambda_in);
+}
+
+TEST(InfluxAwareController, AFallThatMatchesItsOwnOutflowMeansNoInflux) {
+  // Density falling at exactly the rate the robot's own retreats imply: nothing came in.
+  // Drive λ̂ down by dλ = −ε·λ·dt with the controller's own ε at every step (Euler).
+  const Step s;
+  const double c_L = model::swept_rate(s.model) * s.agent.L;
+  InfluxAwareController controller;
+  double lambda = 6.0;
+  for (std::int64_t k = 0; static_cast<double>(k) * s.agent.dt <= 4 * s.agent.L; ++k) {
+    const double t = 90.0 + static_cast<double>(k) * s.agent.dt;
+    auto input = s.at(t, static_cast<std::uint64_t>(std::lround(lambda * c_L)));
+    input.lambda_hat = lambda;  // the exact density, not a whole count
+    const double p = controller.retreat_probability(input);
+    lambda -= p / s.agent.dt * lambda * s.agent.dt;  // dλ = −ε·λ·dt
+  }
+  // (λ(t) − λ(t − L))/L of that Euler sequence is −(dt/L)·Σ ε·λ over the steps in the window,
+  // and the estimate adds the mean of the same outflows: the two cancel up to one step's share
+  // at the window's ends (1 in L/dt = 3,000), far below 1 % of λ_in.
+  EXPECT_LT(controller.last_influx_estimate(), 0.01 * s.agent.lambda_in);
+}
+
+TEST(InfluxAwareController, TheConfidentVariantActsOnTheLoweredEstimate) {
+  const Step s;
+  const auto controller = make_controller("confident-influx-aware");
+  EXPECT_EQ(controller->name(), "confident-influx-aware");
+  const std::uint64_t y = 9;  // λ̂ above λ*, one σ below it not
+  EXPECT_EQ(controller->retreat_probability(s.at(100.0, y)), 0.0);
+  const std::uint64_t high = 40;
+  const double low = lower_confidence_density(high, s.model, s.agent.L, 1.0);
+  EXPECT_DOUBLE_EQ(controller->retreat_probability(s.at(100.03, high)),
+                   model::epsilon(low, s.lambda_star(), 0.0, s.agent.K_p) * s.agent.dt);
+}
+
+}  // namespace
+}  // namespace retreat::agent
