@@ -22,7 +22,9 @@ WorldBase::WorldBase(const WorldParams& params)
 
 void WorldBase::init_population() {
   for (std::uint32_t i = 0; i < params_.robots_inside; ++i) {
-    stats_[create_robot()].phase = Phase::inside;
+    RobotStats& stats = stats_[create_robot()];
+    stats.phase = Phase::inside;
+    stats.entered_at = 0.0;
   }
   for (std::uint32_t i = 0; i < params_.robots_waiting; ++i) {
     queue_.push_back(create_robot());

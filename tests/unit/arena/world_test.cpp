@@ -40,6 +40,9 @@ TEST_P(PhysicsWorld, StartsWithTheConfiguredRobotsInsideAndWaiting) {
     EXPECT_EQ(f.tick, 0);
   }
   EXPECT_NEAR(t.true_density, 8.0 / (3.14159265358979323846 * 1.2 * 0.8), 1e-12);
+  for (RobotId id = 0; id < 12; ++id) {  // agents.csv tells the two apart by entered_at
+    EXPECT_EQ(world->robot_stats(id).entered_at, id < 8 ? 0.0 : -1.0) << "robot " << id;
+  }
 }
 
 TEST_P(PhysicsWorld, AFiniteQueueEmptiesAtTheInfluxRate) {

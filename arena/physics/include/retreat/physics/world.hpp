@@ -69,7 +69,8 @@ struct Telemetry {
 /// Cumulative statistics of one robot.
 struct RobotStats {
   Phase phase = Phase::waiting;
-  double entered_at = 0.0;    ///< time it was in D first (0 for robots inside at start) [s]
+  double entered_at = -1.0;   ///< time it was in D first (0 for robots inside at start, −1 if it
+                              ///< has not entered) [s]
   double departed_at = -1.0;  ///< time it left D (−1 if it has not) [s]
   std::uint64_t onsets = 0;
   std::uint64_t pickups = 0;
