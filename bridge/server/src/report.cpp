@@ -10,8 +10,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "page_parts.hpp"
 #include "retreat/bridge/run_info.hpp"
-#include "retreat/bridge/web_assets.hpp"
 #include "retreat/model/ctmc.hpp"
 #include "retreat/model/encounter.hpp"
 #include "retreat/scenario/scenario.hpp"
@@ -22,6 +22,9 @@ namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
+using detail::asset_text;
+using detail::html_escape;
+using detail::script_json;
 
 constexpr double no_robot = 4294967295.0;  // physics::no_robot: a per-robot contact episode
 
@@ -312,41 +315,6 @@ json estimates_json(const std::vector<Run>& runs, double t_end, double status_pe
   }
   return {{"time", time}, {"mean", mean}, {"low", low}, {"high", high}, {"true_density", truth},
           {"agents", agents.size()}, {"bin_width", round6(width)}};
-}
-
-std::string asset_text(const char* name) {
-  const auto* a = find_web_asset(name);
-  if (a == nullptr) throw std::logic_error(std::string("report: no embedded asset ") + name);
-  return std::string(a->data);
-}
-
-/// JSON safe inside <script>: no '<' at all (it only occurs inside strings).
-std::string script_json(const json& j) {
-  const auto text = j.dump();
-  std::string out;
-  out.reserve(text.size());
-  for (char c : text) {
-    if (c == '<') {
-      out += "\\u003c";
-    } else {
-      out += c;
-    }
-  }
-  return out;
-}
-
-std::string html_escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
-  }
-  return out;
 }
 
 }  // namespace

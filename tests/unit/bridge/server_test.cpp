@@ -231,6 +231,9 @@ TEST_F(ServerTest, EventStreamsBeyondTheLimitGet503AndTheServerStillAnswers) {
   EXPECT_EQ(server_->event_streams(), 1u);
   server_->stop();
   first.join();
+  // The stream's slot is given back when httplib's worker finishes the response, which can be
+  // just after the client has read its end; serve() returns only once every worker has.
+  serving_.join();
   EXPECT_EQ(server_->event_streams(), 0u);
 }
 

@@ -1,0 +1,122 @@
+#include "common.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+namespace retreat::experiment {
+namespace {
+
+bool parse_u64(const std::string& text, std::uint64_t& value) {
+  const char* first = text.data();
+  const char* last = first + text.size();
+  const auto [end, error] = std::from_chars(first, last, value);
+  return error == std::errc() && end == last && first != last;
+}
+
+/// NaN and infinities (which nlohmann writes as null anyway) made explicit, recursively.
+nlohmann::json sanitised(const nlohmann::json& j) {
+  if (j.is_number_float()) return finite_or_null(j.get<double>());
+  if (j.is_array() || j.is_object()) {
+    nlohmann::json out = j;
+    for (auto& v : out) v = sanitised(v);
+    return out;
+  }
+  return j;
+}
+
+}  // namespace
+
+SeedRange parse_seed_range(const std::string& text, const std::string& option) {
+  const auto colon = text.find(':');
+  SeedRange r;
+  if (colon == std::string::npos || !parse_u64(text.substr(0, colon), r.first) ||
+      !parse_u64(text.substr(colon + 1), r.last) || r.first > r.last) {
+    throw UsageError(option + " '" + text + "': must be A:B with whole numbers 0 <= A <= B");
+  }
+  if (r.last - r.first >= 100000) throw UsageError(option + " '" + text + "': at most 100000 seeds");
+  return r;
+}
+
+std::string scenario_file(const Common& common, const std::string& name) {
+  const std::string path = common.scenarios_dir + "/" + name;
+  if (!std::filesystem::is_regular_file(path)) {
+    throw UsageError("--scenarios '" + common.scenarios_dir + "': no " + name +
+                     " there (the directory of the shipped scenarios, deploy/scenarios)");
+  }
+  return path;
+}
+
+void make_run_dir(const std::string& dir) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::exists(dir, ec) && !(fs::is_directory(dir, ec) && fs::is_empty(dir, ec))) {
+    throw UsageError("--out '" + dir + "': exists and is not an empty directory (give a new one)");
+  }
+  fs::create_directories(dir, ec);
+  if (ec) throw UsageError("--out '" + dir + "': cannot create it (" + ec.message() + ")");
+}
+
+void write_json(const std::string& path, const nlohmann::json& j) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp);
+    out << sanitised(j).dump(2) << '\n';
+    if (!out.flush()) throw RunFailure("cannot write '" + tmp + "'");
+  }
+  std::filesystem::rename(tmp, path);
+}
+
+CsvWriter::CsvWriter(const std::string& path, const std::vector<std::string>& header)
+    : path_(path), columns_(header.size()), file_(std::fopen(path.c_str(), "w")) {
+  if (file_ == nullptr) throw RunFailure("cannot write '" + path + "'");
+  for (std::size_t i = 0; i < header.size(); ++i) std::fprintf(file_, "%s%s", i ? "," : "", header[i].c_str());
+  std::fputc('\n', file_);
+}
+
+CsvWriter::~CsvWriter() {
+  if (file_ != nullptr) std::fclose(file_);
+}
+
+void CsvWriter::row(const std::vector<nlohmann::json>& cells) {
+  if (cells.size() != columns_) throw std::logic_error(path_ + ": a row with the wrong number of cells");
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    if (i > 0) std::fputc(',', file_);
+    const auto& c = cells[i];
+    if (c.is_string()) {
+      std::fputs(c.get<std::string>().c_str(), file_);
+    } else if (c.is_number_integer() || c.is_number_unsigned()) {
+      std::fputs(c.dump().c_str(), file_);
+    } else if (c.is_number() && std::isfinite(c.get<double>())) {
+      std::fprintf(file_, "%.9g", c.get<double>());
+    }
+  }
+  std::fputc('\n', file_);
+}
+
+void CsvWriter::close() {
+  if (file_ == nullptr) return;
+  const bool ok = std::fflush(file_) == 0 && std::ferror(file_) == 0;
+  std::fclose(file_);
+  file_ = nullptr;
+  if (!ok) throw RunFailure("cannot write '" + path_ + "'");
+}
+
+std::string fixed(double value, int digits) {
+  if (!std::isfinite(value)) return "–";
+  char text[64];
+  std::snprintf(text, sizeof text, "%.*f", digits, value);
+  return text;
+}
+
+nlohmann::json finite_or_null(double value) { return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr); }
+
+double round6(double v) {
+  if (!std::isfinite(v) || v == 0.0) return v;
+  const double scale = std::pow(10.0, 5 - std::floor(std::log10(std::fabs(v))));
+  return std::round(v * scale) / scale;
+}
+
+}  // namespace retreat::experiment

@@ -1,0 +1,85 @@
+#pragma once
+/// @file
+/// What every retreat-experiment subcommand shares: its options, seed ranges, the scenario
+/// files, the run directory and its files (CSV, JSON, report.html).
+
+#include <cstdint>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace retreat::experiment {
+
+/// Bad input: one line naming the value and what is allowed (exit code 2).
+class UsageError : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+
+/// A run that failed (a child failed, or left no data): exit code 1.
+class RunFailure : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Seeds A..B inclusive.
+struct SeedRange {
+  std::uint64_t first = 1;
+  std::uint64_t last = 1;
+  std::size_t count() const { return static_cast<std::size_t>(last - first + 1); }
+  std::string text() const { return std::to_string(first) + ":" + std::to_string(last); }
+};
+
+/// Parses "A:B" (whole numbers, 0 <= A <= B, at most 100000 seeds); throws UsageError naming
+/// `option`.
+SeedRange parse_seed_range(const std::string& text, const std::string& option = "--seeds");
+
+/// The options every subcommand takes.
+struct Common {
+  std::string out_dir;        ///< the run directory (created; must not hold a previous run)
+  bool quick = false;         ///< the reduced size (tests, smoke runs)
+  std::string scenarios_dir;  ///< where the shipped scenario files are
+  std::string launcher;       ///< retreat-launch (robotarium, controllers)
+};
+
+/// `name` (e.g. "robotarium-2019.yaml") in the scenarios directory; throws UsageError when it
+/// is not there.
+std::string scenario_file(const Common& common, const std::string& name);
+
+/// Creates the run directory; throws UsageError when it exists and is not empty (a previous
+/// run is never mixed with a new one) or cannot be created.
+void make_run_dir(const std::string& dir);
+
+/// Writes JSON (2-space indent) through a temporary file. Non-finite numbers become null.
+void write_json(const std::string& path, const nlohmann::json& j);
+
+/// A CSV file: a header, then one row per call; numbers with 9 significant digits.
+class CsvWriter {
+ public:
+  CsvWriter(const std::string& path, const std::vector<std::string>& header);
+  ~CsvWriter();
+  CsvWriter(const CsvWriter&) = delete;
+  CsvWriter& operator=(const CsvWriter&) = delete;
+  /// One row: each cell a number (NaN written as empty) or a string (no commas).
+  void row(const std::vector<nlohmann::json>& cells);
+  void close();  ///< flushes; throws RunFailure when the file could not be written
+
+ private:
+  std::string path_;
+  std::size_t columns_;
+  std::FILE* file_ = nullptr;
+};
+
+/// A number for a table: `digits` decimals, "–" when not finite.
+std::string fixed(double value, int digits);
+
+/// A JSON number, or null when not finite (JSON has no NaN or infinity).
+nlohmann::json finite_or_null(double value);
+
+/// Rounds to 6 significant digits (figures are for the eye; keeps report.html small).
+double round6(double value);
+
+}  // namespace retreat::experiment

@@ -1,0 +1,41 @@
+#pragma once
+/// @file
+/// Many seeds of one set-up, run by retreat-launch and reduced: the population over time
+/// (mean, standard deviation, extremes over seeds) and per-seed results.
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "launch.hpp"
+#include "seed_runs.hpp"
+#include "stats.hpp"
+
+namespace retreat::experiment {
+
+/// Grid of the population traces [s]: 1,200 s runs give 241 points, an hour 721.
+inline constexpr double population_grid = 5.0;
+
+/// One set-up over its seeds.
+struct Ensemble {
+  std::string name;   ///< file-name friendly, e.g. `finite-in-process`
+  std::string label;  ///< for people, e.g. `finite queue, in-process`
+  std::vector<SeedRun> runs;
+  std::vector<double> time, mean, sd, min, max;  ///< population over seeds on the grid
+};
+
+/// Runs `request` with retreat-launch (output in request.out) and reduces its seeds with the
+/// cost weight `C` (MODEL.md §4).
+Ensemble run_ensemble(const std::string& launcher, const std::string& name, const std::string& label,
+                      const LaunchRequest& request, double C);
+
+/// Statistics over seeds of one per-seed number.
+Moments over_seeds(const Ensemble& e, double (*value)(const SeedRun&));
+
+/// A figure: the population's mean and mean ± sd band over seeds against λ*·|D|.
+nlohmann::json population_figure(const Ensemble& e, const std::string& id, const std::string& title);
+
+/// Appends the population traces of `e` to a CSV (ensemble, time, mean, sd, min, max).
+void write_population_rows(CsvWriter& csv, const Ensemble& e);
+
+}  // namespace retreat::experiment

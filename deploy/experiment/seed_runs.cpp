@@ -1,0 +1,138 @@
+#include "seed_runs.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "common.hpp"
+
+namespace retreat::experiment {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// The columns of telemetry.csv the experiments use, one entry per tick.
+struct Telemetry {
+  std::vector<double> time, inside, retreating, departed, deliveries;
+};
+
+Telemetry read_telemetry(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw RunFailure("'" + path + "': missing (the launcher wrote no telemetry)");
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> header;
+  {
+    std::istringstream h(line);
+    for (std::string cell; std::getline(h, cell, ',');) header.push_back(cell);
+  }
+  const auto column = [&](const std::string& name) {
+    const auto it = std::find(header.begin(), header.end(), name);
+    if (it == header.end()) throw RunFailure("'" + path + "': no column '" + name + "'");
+    return static_cast<std::size_t>(it - header.begin());
+  };
+  const std::size_t time = column("time"), inside = column("inside"), retreating = column("retreating"),
+                    departed = column("departed"), deliveries = column("deliveries");
+  Telemetry t;
+  std::vector<double> row;
+  while (std::getline(in, line)) {
+    row.clear();
+    const char* p = line.c_str();
+    while (*p != '\0') {
+      char* end = nullptr;
+      row.push_back(std::strtod(p, &end));
+      if (end == p) throw RunFailure("'" + path + "': a cell that is not a number: " + line);
+      p = *end == ',' ? end + 1 : end;
+    }
+    if (row.size() != header.size()) throw RunFailure("'" + path + "': a short row: " + line);
+    t.time.push_back(row[time]);
+    t.inside.push_back(row[inside]);
+    t.retreating.push_back(row[retreating]);
+    t.departed.push_back(row[departed]);
+    t.deliveries.push_back(row[deliveries]);
+  }
+  if (t.time.size() < 2) throw RunFailure("'" + path + "': fewer than two ticks");
+  return t;
+}
+
+/// Rows are ticks at equal spacing, so the time-mean over a span is the mean of its rows; the
+/// deliveries of the span are the counter's increase from the last row before it.
+SpanCost span_cost(const Telemetry& t, double from, double to, double area, double C) {
+  SpanCost s;
+  s.from = from;
+  s.to = to;
+  double sum = 0.0;
+  std::size_t n = 0;
+  double delivered_before = 0.0;  // the counter at `from` (0 at t = 0)
+  for (std::size_t k = 0; k < t.time.size(); ++k) {
+    if (t.time[k] <= from + 1e-9) {
+      delivered_before = t.deliveries[k];
+      continue;
+    }
+    if (t.time[k] > to + 1e-9) break;
+    sum += t.inside[k];
+    ++n;
+  }
+  s.mean_population = n > 0 ? sum / static_cast<double>(n) : std::numeric_limits<double>::quiet_NaN();
+  s.deliveries = t.deliveries.back() - delivered_before;
+  s.lambda = s.mean_population / area;
+  s.output = s.deliveries / (area * (to - from));
+  s.J = s.output > 0.0 ? C / s.output + s.lambda : std::numeric_limits<double>::infinity();
+  return s;
+}
+
+std::uint64_t seed_of(const fs::path& p) { return std::strtoull(p.filename().string().c_str() + 5, nullptr, 10); }
+
+}  // namespace
+
+std::vector<SeedRun> read_seed_runs(const std::string& launch_out, double C, double grid_step) {
+  std::vector<fs::path> dirs;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(launch_out, ec)) {
+    if (e.is_directory() && e.path().filename().string().rfind("seed_", 0) == 0) dirs.push_back(e.path());
+  }
+  if (dirs.empty()) throw RunFailure("'" + launch_out + "': no seed_<n> run directories");
+  std::sort(dirs.begin(), dirs.end(), [](const auto& a, const auto& b) { return seed_of(a) < seed_of(b); });
+  std::vector<SeedRun> runs;
+  for (const auto& d : dirs) {
+    SeedRun r;
+    r.seed = seed_of(d);
+    r.dir = d.string();
+    std::ifstream in(d / "summary.json");
+    nlohmann::json summary;
+    try {
+      summary = nlohmann::json::parse(in);
+    } catch (const nlohmann::json::exception& e) {
+      throw RunFailure("'" + (d / "summary.json").string() + "': " + e.what());
+    }
+    r.area = summary.at("area").get<double>();
+    r.optimal_population = summary.at("optimal_population").get<double>();
+    r.agents_lost = summary.at("agents").value("lost", 0u);
+    r.trajectory_sha256 = summary.value("trajectory_sha256", std::string());
+    const auto t = read_telemetry((d / "telemetry.csv").string());
+    r.duration = t.time.back();
+    r.final_population = t.inside.back();
+    r.departed = t.departed.back();
+    r.retreating_at_end = t.retreating.back();
+    r.whole = span_cost(t, 0.0, r.duration, r.area, C);
+    r.last_half = span_cost(t, r.duration / 2.0, r.duration, r.area, C);
+    r.mean_last_300s = span_cost(t, std::max(0.0, r.duration - 300.0), r.duration, r.area, C).mean_population;
+    std::size_t k = 0;
+    const auto steps = static_cast<std::size_t>(std::floor(r.duration / grid_step + 1e-9));
+    for (std::size_t i = 0; i <= steps; ++i) {
+      const double at = grid_step * static_cast<double>(i);
+      while (k + 1 < t.time.size() && t.time[k + 1] <= at + 1e-9) ++k;
+      // Before the first tick the population is the first tick's (robots_inside at t = 0).
+      r.population.push_back(t.inside[k]);
+    }
+    runs.push_back(std::move(r));
+  }
+  return runs;
+}
+
+}  // namespace retreat::experiment

@@ -1,0 +1,306 @@
+// retreat-experiment, run as a program: a reduced run of each subcommand exits 0 and leaves
+// well-formed data (CSV with the documented columns and row counts, finite numbers, JSON) and a
+// report.html that carries its figures' data; bad input gets one line and exit code 2.
+// DDS: only RobotariumQuickRun starts agent processes, on domain 89 (this test's own).
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "retreat/agent/controller_registry.hpp"
+#include "retreat/testing/process.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using namespace std::chrono_literals;
+
+const std::string program = RETREAT_EXPERIMENT_BIN;
+constexpr int process_domain = 89;
+
+std::string fresh_dir(const std::string& name) {
+  const auto dir = fs::temp_directory_path() / ("retreat-experiment-test-" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir.string();
+}
+
+/// Runs retreat-experiment with `args`; returns the exit code and its output.
+std::pair<int, std::string> run(const std::string& dir, std::vector<std::string> args,
+                                std::chrono::milliseconds timeout = 150s) {
+  args.insert(args.begin(), program);
+  return retreat::testing::run_to_exit(args, dir + "/experiment.log", timeout);
+}
+
+/// A CSV file: header and rows of cells.
+struct Csv {
+  std::vector<std::string> header;
+  std::vector<std::vector<std::string>> rows;
+  std::size_t column(const std::string& name) const {
+    for (std::size_t i = 0; i < header.size(); ++i) {
+      if (header[i] == name) return i;
+    }
+    ADD_FAILURE() << "no column " << name;
+    return 0;
+  }
+  double number(std::size_t row, const std::string& name) const { return std::stod(rows.at(row).at(column(name))); }
+};
+
+std::vector<std::string> cells(const std::string& line) {
+  std::vector<std::string> out;
+  std::istringstream in(line);
+  for (std::string c; std::getline(in, c, ',');) out.push_back(c);
+  if (!line.empty() && line.back() == ',') out.emplace_back();
+  return out;
+}
+
+Csv read_csv(const std::string& path) {
+  std::ifstream in(path);
+  EXPECT_TRUE(in) << path;
+  Csv csv;
+  std::string line;
+  if (std::getline(in, line)) csv.header = cells(line);
+  while (std::getline(in, line)) {
+    csv.rows.push_back(cells(line));
+    EXPECT_EQ(csv.rows.back().size(), csv.header.size()) << path << ": " << line;
+  }
+  return csv;
+}
+
+void expect_columns(const Csv& csv, const std::vector<std::string>& names) { EXPECT_EQ(csv.header, names); }
+
+/// Every cell of `columns` in every row is a finite number.
+void expect_finite(const Csv& csv, const std::vector<std::string>& columns, const std::string& what) {
+  for (std::size_t r = 0; r < csv.rows.size(); ++r) {
+    for (const auto& c : columns) {
+      const auto& cell = csv.rows[r].at(csv.column(c));
+      std::size_t used = 0;
+      double v = NAN;
+      try {
+        v = std::stod(cell, &used);
+      } catch (const std::exception&) {
+      }
+      ASSERT_TRUE(used == cell.size() && std::isfinite(v)) << what << " row " << r << " column " << c << ": '" << cell << "'";
+    }
+  }
+}
+
+json read_json(const std::string& path) {
+  std::ifstream in(path);
+  return json::parse(in);
+}
+
+/// The figures page's data: the JSON report.html hands to its script.
+json figures_of(const std::string& report) {
+  const std::string text = retreat::testing::read_file(report);
+  const std::string start = "window.FIGURES = ";
+  const auto from = text.find(start);
+  EXPECT_NE(from, std::string::npos) << report;
+  const auto to = text.find(";\n</script>", from);
+  EXPECT_NE(to, std::string::npos) << report;
+  EXPECT_NE(text.find("uPlot"), std::string::npos) << "uPlot is inlined";
+  EXPECT_EQ(text.find("<script src"), std::string::npos) << "nothing is loaded from elsewhere";
+  return json::parse(text.substr(from + start.size(), to - from - start.size()));
+}
+
+/// The figure `id` of the page (fails when absent); its series have data.
+json figure(const json& page, const std::string& id) {
+  for (const auto& s : page["sections"]) {
+    for (const auto& f : s.value("figures", json::array())) {
+      if (f["id"] == id) {
+        for (const auto& series : f["series"]) EXPECT_FALSE(series["x"].empty()) << id << ": " << series["label"];
+        return f;
+      }
+    }
+  }
+  ADD_FAILURE() << "no figure " << id;
+  return json::object();
+}
+
+std::size_t lines(const std::string& text) {
+  std::size_t n = 0;
+  for (char c : text) n += c == '\n';
+  return n;
+}
+
+TEST(Experiment, EncountersQuickRunWritesTheFitAndBothHistograms) {
+  const auto dir = fresh_dir("encounters");
+  const auto [code, output] = run(dir, {"encounters", "--quick", "--out", dir + "/out"});
+  ASSERT_EQ(code, 0) << output;
+  const auto r = read_json(dir + "/out/results.json");
+  for (const char* p : {"/onset_rate/measured", "/onset_rate/formula", "/onset_rate/ratio_to_formula",
+                        "/inter_encounter/mean", "/inter_encounter/ks_against_formula", "/resolution/robot/rho",
+                        "/resolution/robot/rho_se", "/resolution/robot/ks_against_fitted",
+                        "/resolution/robot/ks_critical_5pct", "/resolution/pair/rho"}) {
+    ASSERT_TRUE(r.contains(json::json_pointer(p))) << p;
+    const double v = r.at(json::json_pointer(p)).get<double>();
+    EXPECT_TRUE(std::isfinite(v) && v > 0.0) << p << " = " << v;
+  }
+  const auto intervals = read_csv(dir + "/out/intervals.csv");
+  expect_columns(intervals, {"robot", "onset_time", "interval"});
+  EXPECT_EQ(intervals.rows.size(), r["inter_encounter"]["n"].get<std::size_t>());
+  EXPECT_GT(intervals.rows.size(), 100u);
+  expect_finite(intervals, intervals.header, "intervals.csv");
+  const auto contacts = read_csv(dir + "/out/contacts.csv");
+  expect_columns(contacts, {"kind", "robot", "other", "start", "end", "duration"});
+  EXPECT_EQ(contacts.rows.size(), r["resolution"]["robot"]["n"].get<std::size_t>() +
+                                      r["resolution"]["pair"]["n"].get<std::size_t>());
+  const auto hist = read_csv(dir + "/out/histograms.csv");
+  expect_columns(hist, {"kind", "centre", "measured", "model", "fitted"});
+  EXPECT_EQ(hist.rows.size(), 80u);  // 40 bins each
+  expect_finite(hist, {"centre", "measured", "model", "fitted"}, "histograms.csv");
+  const auto page = figures_of(dir + "/out/report.html");
+  EXPECT_EQ(figure(page, "inter-encounter-times")["series"][0]["x"].size(), 40u);
+  EXPECT_EQ(figure(page, "resolution-times")["series"][0]["y"].size(), 40u);
+}
+
+TEST(Experiment, ThroughputQuickRunWritesEveryDensityAndTheCtmcCurve) {
+  const auto dir = fresh_dir("throughput");
+  const auto [code, output] = run(dir, {"throughput", "--quick", "--out", dir + "/out"});
+  ASSERT_EQ(code, 0) << output;
+  const auto points = read_csv(dir + "/out/points.csv");
+  expect_columns(points, {"lambda", "robots", "side", "deliveries", "output", "output_se", "ctmc_fitted",
+                          "ratio_fitted", "ctmc_paper", "ratio_paper", "rho_robot", "free_fraction"});
+  ASSERT_EQ(points.rows.size(), 3u);  // quick: 0.5, 0.99, 2
+  expect_finite(points, points.header, "points.csv");
+  for (std::size_t i = 0; i < points.rows.size(); ++i) {
+    EXPECT_GT(points.number(i, "deliveries"), 0.0);
+    EXPECT_GT(points.number(i, "ratio_fitted"), 0.0);
+  }
+  const auto curve = read_csv(dir + "/out/curve.csv");
+  expect_columns(curve, {"lambda", "ctmc_fitted", "ctmc_paper"});
+  EXPECT_EQ(curve.rows.size(), 201u);
+  expect_finite(curve, curve.header, "curve.csv");
+  const auto r = read_json(dir + "/out/results.json");
+  EXPECT_GT(r["rho_fitted"].get<double>(), 0.0);
+  EXPECT_EQ(r["points"].size(), 3u);
+  const auto page = figures_of(dir + "/out/report.html");
+  EXPECT_EQ(figure(page, "throughput")["series"][1]["x"].size(), 3u);
+  figure(page, "throughput-ratio");
+}
+
+TEST(Experiment, RobotariumQuickRunCoversProcessesInProcessEndlessAndKinetic) {
+  const auto dir = fresh_dir("robotarium");
+  // Two process seeds of 100 simulated seconds (3,334 lockstep ticks each over Fast DDS).
+  const auto [code, output] = run(dir, {"robotarium", "--quick", "--process-seeds", "1:2", "--process-duration",
+                                        "100", "--domain", std::to_string(process_domain), "--out", dir + "/out"});
+  ASSERT_EQ(code, 0) << output;
+  const auto r = read_json(dir + "/out/results.json");
+  const std::vector<std::pair<std::string, std::size_t>> setups = {
+      {"processes", 2}, {"finite-in-process", 3}, {"endless-in-process", 3}, {"kinetic-in-process", 3}};
+  const auto seeds = read_csv(dir + "/out/seeds.csv");
+  expect_columns(seeds, {"ensemble", "seed", "final", "mean_last_300s", "mean_last_half", "departed", "deliveries", "lost"});
+  expect_finite(seeds, {"seed", "final", "mean_last_300s", "mean_last_half", "departed", "deliveries", "lost"}, "seeds.csv");
+  EXPECT_EQ(seeds.rows.size(), 11u);
+  const auto population = read_csv(dir + "/out/population.csv");
+  expect_columns(population, {"ensemble", "time", "mean", "sd", "min", "max"});
+  expect_finite(population, {"time", "mean", "sd", "min", "max"}, "population.csv");
+  const auto page = figures_of(dir + "/out/report.html");
+  std::size_t rows = 0;
+  for (const auto& [name, n] : setups) {
+    ASSERT_TRUE(r.contains(name)) << name;
+    EXPECT_EQ(r[name]["seeds"].get<std::size_t>(), n) << name;
+    const double optimum = r[name]["optimal_population"].get<double>();
+    EXPECT_NEAR(optimum, 4.5467, 1e-3) << name;  // λ*·|D| of MODEL.md §6
+    const double final_mean = r[name]["population_final"]["mean"].get<double>();
+    EXPECT_TRUE(std::isfinite(final_mean) && final_mean >= 0.0) << name;
+    for (std::size_t s = 1; s <= n; ++s) {
+      EXPECT_TRUE(fs::exists(dir + "/out/" + name + "/seed_" + std::to_string(s) + "/summary.json")) << name << s;
+    }
+    const double duration = r[name]["duration"].get<double>();
+    rows += static_cast<std::size_t>(std::floor(duration / 5.0 + 1e-9)) + 1;  // 5 s grid
+    EXPECT_EQ(figure(page, "population-" + name)["series"][1]["x"].size(),
+              static_cast<std::size_t>(std::floor(duration / 5.0 + 1e-9)) + 1) << name;
+  }
+  // run.duration = 100 s ends at the first tick at or past it: 3,334 ticks of 0.03 s.
+  EXPECT_NEAR(r["processes"]["duration"].get<double>(), 100.0, 0.03);
+  EXPECT_EQ(population.rows.size(), rows);
+  figure(page, "population-means");
+}
+
+TEST(Experiment, ControllersQuickRunComparesEveryRegisteredControllerOnBothQueues) {
+  const auto dir = fresh_dir("controllers");
+  const auto [code, output] = run(dir, {"controllers", "--quick", "--seeds", "1:2", "--out", dir + "/out"});
+  ASSERT_EQ(code, 0) << output;
+  const auto names = retreat::agent::controller_names();
+  const auto results = read_csv(dir + "/out/results.csv");
+  expect_columns(results, {"scenario", "controller", "seeds", "duration", "J_whole_pooled", "J_last_half_pooled",
+                           "J_last_half_mean", "J_last_half_sd", "mean_population_last_half", "final_mean",
+                           "final_sd", "final_min", "final_max", "optimum", "departed_mean", "departed_min",
+                           "departed_max", "deliveries_mean", "lost_total"});
+  ASSERT_EQ(results.rows.size(), 2 * names.size());
+  std::set<std::string> seen;
+  for (std::size_t i = 0; i < results.rows.size(); ++i) {
+    seen.insert(results.rows[i][results.column("scenario")] + "/" + results.rows[i][results.column("controller")]);
+    EXPECT_EQ(results.number(i, "seeds"), 2.0);
+    EXPECT_GT(results.number(i, "J_whole_pooled"), 0.0);
+  }
+  for (const auto& n : names) {
+    EXPECT_TRUE(seen.count("finite/" + n) == 1 && seen.count("endless/" + n) == 1) << n;
+  }
+  expect_finite(results, {"seeds", "duration", "J_whole_pooled", "J_last_half_pooled", "mean_population_last_half",
+                          "final_mean", "final_sd", "final_min", "final_max", "optimum", "departed_mean",
+                          "deliveries_mean", "lost_total"}, "results.csv");
+  const auto seeds = read_csv(dir + "/out/seeds.csv");
+  EXPECT_EQ(seeds.rows.size(), 2 * 2 * names.size());
+  const auto md = retreat::testing::read_file(dir + "/out/results.md");
+  EXPECT_NE(md.find("| scenario | controller | J whole run |"), std::string::npos);
+  EXPECT_EQ(lines(md), 2 + 2 + 2 * names.size());  // note, blank line, header, rule, rows
+  const auto page = figures_of(dir + "/out/report.html");
+  EXPECT_EQ(figure(page, "population-finite")["series"].size(), names.size() + 1);
+  EXPECT_EQ(figure(page, "population-endless")["series"].size(), names.size() + 1);
+}
+
+// Bad input: one line on stderr naming the value, exit code 2, nothing run.
+struct BadInput {
+  std::string name;
+  std::vector<std::string> args;
+  std::string named;  ///< what the line must mention
+};
+
+void PrintTo(const BadInput& c, std::ostream* os) { *os << c.name; }
+
+class ExperimentBadInput : public ::testing::TestWithParam<BadInput> {};
+
+TEST_P(ExperimentBadInput, GetsOneLineAndExitCodeTwo) {
+  const auto& c = GetParam();
+  const auto dir = fresh_dir("bad-" + c.name);
+  auto args = c.args;
+  const auto [code, output] = run(dir, args, 20s);
+  EXPECT_EQ(code, 2) << output;
+  EXPECT_EQ(lines(output), 1u) << output;
+  EXPECT_NE(output.find(c.named), std::string::npos) << output;
+  EXPECT_FALSE(fs::exists(dir + "/out")) << "nothing is written";
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, ExperimentBadInput,
+    ::testing::Values(
+        BadInput{"unknown_subcommand", {"fly", "--out", "/tmp/x"}, "fly"},
+        BadInput{"no_subcommand", {}, "subcommand"},
+        BadInput{"reversed_seeds", {"controllers", "--seeds", "5:1", "--out", "/nonexistent/out"}, "5:1"},
+        BadInput{"seeds_not_a_range", {"robotarium", "--seeds", "abc", "--out", "/nonexistent/out"}, "abc"},
+        BadInput{"missing_scenarios", {"encounters", "--scenarios", "/nonexistent/scenarios"}, "/nonexistent/scenarios"},
+        BadInput{"bad_lambdas", {"throughput", "--lambdas", "0.5,x", "--out", "/nonexistent/out"}, "0.5,x"},
+        BadInput{"bad_vendor", {"robotarium", "--dds", "zenoh", "--out", "/nonexistent/out"}, "zenoh"}),
+    [](const auto& param_info) { return param_info.param.name; });
+
+TEST(Experiment, RefusesAnOutDirectoryThatHoldsSomething) {
+  const auto dir = fresh_dir("out-not-empty");
+  std::ofstream(dir + "/keep.txt") << "a previous run\n";
+  const auto [code, output] = run(dir, {"encounters", "--quick", "--out", dir}, 20s);
+  EXPECT_EQ(code, 2) << output;
+  EXPECT_EQ(lines(output), 1u) << output;
+  EXPECT_NE(output.find(dir), std::string::npos) << output;
+}
+
+}  // namespace
