@@ -57,6 +57,9 @@ int main(int argc, char** argv) {
     options.name = "retreat-agent/robot_" + std::to_string(robot_id);
     options.user_data = agent::agent_user_data(robot_id);
     options.profile = s.dds.profile;
+    if (s.dds.security == "on") {
+      options.security = transport::swarm_identity(s.dds.security_dir, "robot_" + std::to_string(robot_id));
+    }
     auto transport = transport::make_transport(s.dds.vendor, options);
     agent::AgentNode node(s, robot_id, *transport);
     while (!stop_requested.load() && !node.departed()) {

@@ -178,6 +178,7 @@ int main(int argc, char** argv) {
     p.name = "retreat-bridge";
     p.user_data = "retreat:bridge";
     p.profile = s.dds.profile;
+    if (s.dds.security == "on") p.security = transport::swarm_identity(s.dds.security_dir, "bridge");
     transport = transport::make_transport(s.dds.vendor, p);
     receiver = std::make_unique<bridge::Receiver>(*transport, s.dds.prefix, state, recorder.get());
   } catch (const std::invalid_argument& e) {

@@ -93,6 +93,8 @@ TEST(ScenarioLoader, OutOfRangeValuesNameTheKeyTheValueAndTheRange) {
   expect_error("", {"dds.domain=233"}, "dds.domain = 233: must be an integer in 0..232");
   expect_error("", {"bridge.http=localhost"}, "bridge.http = 'localhost': must be HOST:PORT");
   expect_error("", {"dds.prefix=a//b"}, "dds.prefix = 'a//b'");
+  expect_error("", {"dds.security=yes"}, "dds.security = 'yes': must be on or off");
+  expect_error("", {"dds.security=on"}, "dds.security_dir = '': must be a directory made by");
 }
 
 TEST(ScenarioLoader, MalformedYamlNamesTheLine) {

@@ -5,6 +5,7 @@
 
 #include <dds/dds.h>
 
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <mutex>
@@ -282,12 +283,16 @@ class CycloneTransport final : public Transport {
       dds_qset_userdata(qos, options.user_data.data(), options.user_data.size());
     }
     dds_qset_entity_name(qos, options.name.empty() ? "retreat" : options.name.c_str());
+    if (options.security.enabled()) add_security(qos, options.security);
     participant_ = dds_create_participant(static_cast<dds_domainid_t>(domain_id_), qos, nullptr);
     dds_delete_qos(qos);
     if (participant_ < 0) {
       DomainRegistry::instance().release(domain_id_);
-      throw std::runtime_error(fail("create participant on domain " + std::to_string(domain_id_),
-                                    participant_));
+      throw std::runtime_error(
+          fail("create participant on domain " + std::to_string(domain_id_), participant_) +
+          (options.security.enabled()
+               ? " (DDS Security: check the identity, governance and permissions files)"
+               : ""));
     }
     participants_reader_ =
         dds_create_reader(participant_, DDS_BUILTIN_TOPIC_DCPSPARTICIPANT, nullptr, nullptr);
@@ -347,6 +352,32 @@ class CycloneTransport final : public Transport {
   }
 
  private:
+  /// The plugins of libddsc0debian (libdds_security_{auth,ac,crypto}.so, by absolute path: the
+  /// directory is not on the loader's path), set as `dds.sec.*` participant properties;
+  /// certificates and documents as `file:` URIs of absolute paths.
+  static void add_security(dds_qos_t* qos, const SecurityOptions& s) {
+    const auto uri = [](const std::string& path) {
+      return "file:" + std::filesystem::absolute(path).string();
+    };
+    const std::string dir = RETREAT_CYCLONE_SECURITY_DIR;
+    const auto plugin = [&](const char* kind, const std::string& library, const char* init,
+                            const char* finalize) {
+      const std::string key = std::string("dds.sec.") + kind + ".library.";
+      dds_qset_prop(qos, (key + "path").c_str(), (dir + "/libdds_security_" + library + ".so").c_str());
+      dds_qset_prop(qos, (key + "init").c_str(), init);
+      dds_qset_prop(qos, (key + "finalize").c_str(), finalize);
+    };
+    plugin("auth", "auth", "init_authentication", "finalize_authentication");
+    plugin("access", "ac", "init_access_control", "finalize_access_control");
+    plugin("crypto", "crypto", "init_crypto", "finalize_crypto");
+    dds_qset_prop(qos, "dds.sec.auth.identity_ca", uri(s.identity_ca).c_str());
+    dds_qset_prop(qos, "dds.sec.auth.identity_certificate", uri(s.identity_certificate).c_str());
+    dds_qset_prop(qos, "dds.sec.auth.private_key", uri(s.private_key).c_str());
+    dds_qset_prop(qos, "dds.sec.access.permissions_ca", uri(s.permissions_ca).c_str());
+    dds_qset_prop(qos, "dds.sec.access.governance", uri(s.governance).c_str());
+    dds_qset_prop(qos, "dds.sec.access.permissions", uri(s.permissions).c_str());
+  }
+
   static std::string config_of(const ParticipantOptions& options) {
     if (options.profile.empty()) return loopback_config;
     std::ifstream in(options.profile);

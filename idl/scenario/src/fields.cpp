@@ -142,6 +142,8 @@ std::vector<Field> make_fields() {
       field("dds", "domain", d, &DdsParams::domain),
       field("dds", "prefix", d, &DdsParams::prefix),
       field("dds", "profile", d, &DdsParams::profile),
+      field("dds", "security", d, &DdsParams::security),
+      field("dds", "security_dir", d, &DdsParams::security_dir),
       field("bridge", "http", b, &BridgeParams::http),
   };
 }

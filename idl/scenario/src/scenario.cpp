@@ -59,15 +59,26 @@ void set_key(Scenario& s, const std::string& key, const YAML::Node& value, const
   f->read(s, value);
 }
 
+/// A mapping key as text. YAML allows any node as a key (`? [a, b]: 1`); a scenario's keys are
+/// names (found by tests/fuzz/scenario_fuzzer.cpp: as<std::string>() threw YAML's own
+/// exception, which no program caught).
+std::string key_name(const YAML::Node& key, const std::string& origin) {
+  if (!key.IsScalar()) {
+    throw ConfigError(origin + ": line " + std::to_string(key.Mark().line + 1) +
+                      ": a key must be a name (a section or a field), not a list or mapping");
+  }
+  return key.Scalar();
+}
+
 void merge(Scenario& s, const YAML::Node& root, const std::string& origin) {
   if (root.IsNull()) return;  // an empty file: all defaults
   if (!root.IsMap()) throw ConfigError(origin + ": must be a YAML mapping of sections");
   for (const auto& entry : root) {
-    const auto name = entry.first.as<std::string>();
+    const auto name = key_name(entry.first, origin);
     const YAML::Node& value = entry.second;
     if (value.IsMap()) {
       if (!is_section(name)) unknown_key(name, origin);
-      for (const auto& item : value) set_key(s, name + "." + item.first.as<std::string>(), item.second, origin);
+      for (const auto& item : value) set_key(s, name + "." + key_name(item.first, origin), item.second, origin);
     } else if (is_section(name) && !value.IsNull()) {
       throw ConfigError(name + " in " + origin + ": must be a mapping of keys (" + allowed_in(name) + ")");
     } else if (!is_section(name)) {
@@ -106,6 +117,14 @@ void validate_dds(const DdsParams& d) {
         "must be 1..64 characters of letters, digits and _, with single / between parts");
   check(d.profile.empty() || std::filesystem::is_regular_file(d.profile), "dds.profile",
         "'" + d.profile + "'", "no such file (a vendor XML profile; empty for built-in loopback)");
+  check(d.security == "on" || d.security == "off", "dds.security", "'" + d.security + "'",
+        "must be on or off");
+  check(d.security == "off" || std::filesystem::is_regular_file(d.security_dir + "/ca.pem"),
+        "dds.security_dir", "'" + d.security_dir + "'",
+        "must be a directory made by deploy/security/make-swarm-pki.sh (with ca.pem) when "
+        "dds.security is on");
+  check(d.security == "off" || d.vendor != "inmemory", "dds.security", "'on'",
+        "needs a DDS vendor (fastdds or cyclonedds): the in-memory transport has no DDS Security");
 }
 
 void validate_bridge(const BridgeParams& b) {

@@ -1,6 +1,7 @@
 #include "retreat/transport/transport.hpp"
 
 #include <algorithm>
+#include <filesystem>
 #include <stdexcept>
 
 namespace retreat::transport {
@@ -33,6 +34,37 @@ void validate(const ParticipantOptions& options) {
     throw std::invalid_argument("dds.domain = " + std::to_string(options.domain_id) +
                                 ": must be an integer in 0.." + std::to_string(max_domain_id));
   }
+  const auto& s = options.security;
+  if (!s.enabled()) return;
+  for (const auto* file : {&s.identity_ca, &s.identity_certificate, &s.private_key,
+                           &s.permissions_ca, &s.governance, &s.permissions}) {
+    if (!std::filesystem::is_regular_file(*file)) {
+      throw std::invalid_argument("DDS Security file '" + *file +
+                                  "': no such file (make the swarm's PKI with "
+                                  "deploy/security/make-swarm-pki.sh)");
+    }
+  }
+}
+
+SecurityOptions swarm_identity(const std::string& pki_dir, const std::string& identity) {
+  const std::filesystem::path dir(pki_dir);
+  const auto file = [&](const std::filesystem::path& relative) {
+    const auto path = dir / relative;
+    if (!std::filesystem::is_regular_file(path)) {
+      throw std::invalid_argument("dds.security_dir = '" + pki_dir + "': no " + relative.string() +
+                                  " (identity '" + identity +
+                                  "'; make it with deploy/security/make-swarm-pki.sh)");
+    }
+    return path.string();
+  };
+  SecurityOptions out;
+  out.identity_ca = file("ca.pem");
+  out.permissions_ca = out.identity_ca;
+  out.governance = file("governance.p7s");
+  out.identity_certificate = file(std::filesystem::path(identity) / "cert.pem");
+  out.private_key = file(std::filesystem::path(identity) / "key.pem");
+  out.permissions = file(std::filesystem::path(identity) / "permissions.p7s");
+  return out;
 }
 
 namespace detail {

@@ -38,6 +38,8 @@ struct DdsParams {
   int domain = 0;                  ///< DDS domain id, 0..232
   std::string prefix = "retreat";  ///< topic prefix
   std::string profile;             ///< vendor XML profile; empty = built-in loopback settings
+  std::string security = "off";    ///< DDS Security: `on` or `off` (docs/security.md)
+  std::string security_dir;        ///< the swarm's PKI (deploy/security/make-swarm-pki.sh); needed when on
 };
 
 /// `bridge.*`: the telemetry bridge.

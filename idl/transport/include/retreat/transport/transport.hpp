@@ -23,13 +23,34 @@
 
 namespace retreat::transport {
 
+/// DDS Security (OMG DDS Security 1.1 built-in plugins: PKI-DH authentication, permissions
+/// access control, AES-GCM-GMAC cryptography) of one participant: absolute or relative paths of
+/// PEM and S/MIME files, the same files for both vendors (docs/security.md). All empty: security
+/// off.
+struct SecurityOptions {
+  std::string identity_ca;           ///< CA certificate that signed every identity (PEM)
+  std::string identity_certificate;  ///< this participant's certificate (PEM)
+  std::string private_key;           ///< this participant's private key (PEM, unencrypted)
+  std::string permissions_ca;        ///< CA certificate that signed the documents (PEM)
+  std::string governance;            ///< the domain's governance document, signed (S/MIME)
+  std::string permissions;           ///< this participant's permissions document, signed (S/MIME)
+  bool enabled() const { return !identity_certificate.empty(); }
+};
+
 /// How a participant is created.
 struct ParticipantOptions {
   int domain_id = 0;      ///< DDS domain id, 0..232 (the RTPS port mapping's range)
   std::string name;       ///< participant name shown in discovery, e.g. "retreat-agent"
   std::string user_data;  ///< announced in discovery, e.g. "retreat:agent:robot=3"
   std::string profile;    ///< vendor XML profile file; empty = built-in loopback-only settings
+  SecurityOptions security{};  ///< DDS Security; default: off
 };
+
+/// The files of one identity (`robot_<id>`, `arena`, `bridge`) in a swarm PKI directory made by
+/// deploy/security/make-swarm-pki.sh (`ca.pem`, `governance.p7s`, `<identity>/cert.pem`,
+/// `key.pem`, `permissions.p7s`). Throws std::invalid_argument naming the directory and the
+/// missing file when one is missing.
+SecurityOptions swarm_identity(const std::string& pki_dir, const std::string& identity);
 
 /// Largest domain id the RTPS well-known port mapping allows with the default port parameters.
 inline constexpr int max_domain_id = 232;
@@ -252,7 +273,8 @@ class Transport {
 /// Formats 16 bytes as 32 lowercase hex digits (the GUID form used throughout).
 std::string hex_guid(const unsigned char (&bytes)[16]);
 
-/// Checks ParticipantOptions; throws std::invalid_argument naming the value and the valid range.
+/// Checks ParticipantOptions (domain range; with security, that every file exists); throws
+/// std::invalid_argument naming the value and the valid range.
 void validate(const ParticipantOptions& options);
 
 }  // namespace retreat::transport

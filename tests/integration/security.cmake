@@ -1,0 +1,12 @@
+# DDS Security tests (docs/security.md): the PKI script, secure swarms of real processes, what
+# the permissions refuse. DDS domain ids 65..71 (see the file). About 1 minute.
+if(RETREAT_WITH_FASTDDS OR RETREAT_WITH_CYCLONEDDS)
+  retreat_test(security_test SOURCES ${CMAKE_CURRENT_LIST_DIR}/security_test.cpp
+    DEPS retreat::transports retreat::testing nlohmann_json::nlohmann_json
+    LABELS security TIMEOUT 180)
+  target_compile_definitions(security_test PRIVATE
+    RETREAT_LAUNCH_BIN="$<TARGET_FILE:retreat-launch>"
+    RETREAT_SCENARIOS="${PROJECT_SOURCE_DIR}/deploy/scenarios"
+    RETREAT_PKI_SCRIPT="${PROJECT_SOURCE_DIR}/deploy/security/make-swarm-pki.sh")
+  add_dependencies(security_test retreat-launch)
+endif()
