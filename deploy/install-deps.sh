@@ -9,12 +9,16 @@ packages=(
   build-essential cmake ninja-build pkg-config git
   # DDS: Fast DDS 2.9 + Fast CDR + generator, Cyclone DDS 0.10 C API + idlc
   libfastrtps-dev libfastcdr-dev fastddsgen cyclonedds-dev cyclonedds-tools
+  # DDS Security: Cyclone's plugins (libdds_security_*.so) and openssl for the swarm PKI script
+  libddsc0debian openssl
   # pure libraries and program plumbing
   libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libcpp-httplib-dev libssl-dev
-  # tests and benchmarks
-  libgtest-dev libgmock-dev googletest libbenchmark-dev
+  # tests and benchmarks; the fuzzers (tests/fuzz) need Clang and its libFuzzer runtime
+  libgtest-dev libgmock-dev googletest libbenchmark-dev clang libclang-rt-14-dev
   # test helpers: network namespaces for multi-host tests, python for scripts
   iproute2 procps python3
+  # packet loss between emulated hosts (tests/integration/multihost_test.cpp)
+  nftables
   # the bridge's page: npm installs its front-end library (uPlot) at build time (npm ships
   # inside nodejs where nodejs is NodeSource's, which conflicts with Debian's npm package)
   nodejs $(command -v npm >/dev/null 2>&1 || echo npm)

@@ -1,5 +1,6 @@
 #include "arena_node.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "retreat/wire/topics.hpp"
@@ -56,10 +57,15 @@ ArenaNode::Robot& ArenaNode::robot(std::uint32_t id) {
 
 std::uint32_t ArenaNode::wait_for_agents(std::chrono::nanoseconds timeout, const KeepGoing& keep_going) {
   const auto deadline = std::chrono::steady_clock::now() + timeout;
-  auto matched = [](const Robot& r) { return r.frames.matched_count() > 0 && r.decisions.matched_count() > 0; };
+  // A resumed arena (replay) may have departed robots: their agents have exited, having retreated.
+  auto departed = [](const Robot& r) { return r.phase == wire::Phase::departed; };
+  auto matched = [&](const Robot& r) {
+    return departed(r) ? r.record.retreated
+                       : r.frames.matched_count() > 0 && r.decisions.matched_count() > 0;
+  };
   for (;;) {
     std::uint32_t n = 0;
-    for (const auto& [id, r] : robots_) n += matched(*r) ? 1 : 0;
+    for (const auto& [id, r] : robots_) n += matched(*r) || departed(*r) ? 1 : 0;
     if (n == robots_.size() || std::chrono::steady_clock::now() >= deadline || !keep_going()) break;
     std::this_thread::sleep_for(10ms);
   }
@@ -68,7 +74,7 @@ std::uint32_t ArenaNode::wait_for_agents(std::chrono::nanoseconds timeout, const
     r->record.matched = matched(*r);
     if (r->record.matched) {
       ++agents_started_;
-    } else {
+    } else if (!departed(*r)) {
       r->record.lost = true;  // never came: the robot works without a retreat layer
       r->record.lost_at = 0.0;
     }
@@ -141,6 +147,7 @@ void ArenaNode::take_decisions(Robot& r, std::int64_t current) {
     } else if (scenario_.run.mode == "lockstep" && (d.tick < current || r.record.lost)) {
       ++counters_.stale;  // lockstep answers only count for the tick they answer
     } else {
+      ++counters_.received;
       if (d.tick == current) r.answered = true;
       if (d.retreat && !r.record.retreated) {
         r.record.retreated = true;
@@ -204,10 +211,31 @@ void ArenaNode::resend_unanswered() {
   }
 }
 
-void ArenaNode::step() {
+void ArenaNode::step() { advance(nullptr); }
+
+void ArenaNode::replay(std::int64_t ticks, const RetreatJournal& journal) {
+  while (tick() < ticks && !finished()) advance(&journal);
+  for (const auto& f : world_->frames()) robot(f.id).phase = to_wire(f.phase);
+  resumed_at_tick_ = tick();
+}
+
+void ArenaNode::advance(const RetreatJournal* journal) {
   const auto current = tick();
   for (const auto& f : world_->frames()) {
     auto& r = robot(f.id);
+    if (journal != nullptr) {
+      // What publish_tick and take_decisions did live at this tick, from the journal.
+      r.phase = to_wire(f.phase);
+      const auto [first, last] = journal->equal_range(current);
+      const bool journalled = std::any_of(first, last, [&](const auto& e) { return e.second == f.id; });
+      r.retreat = r.commanded || journalled;
+      if (journalled && !r.record.retreated && r.phase != wire::Phase::departed) {
+        r.record.retreated = true;
+        r.record.retreat_at = world_->telemetry().time;
+      }
+    } else if (r.retreat && !r.commanded && recorder_ != nullptr) {
+      recorder_->record_retreat(current, f.id);
+    }
     const bool retreat = r.retreat && f.phase == physics::Phase::inside;
     hash_.add(current, f.id, static_cast<std::uint8_t>(f.phase), r.retreat);
     if (retreat && !r.commanded) {
@@ -218,8 +246,11 @@ void ArenaNode::step() {
   world_->step_tick();
   for (const auto& f : world_->frames()) robot(f.id);  // endless queue: new robots appear
   if (recorder_ != nullptr) {
-    recorder_->record_tick(world_->telemetry());
-    if (scenario_.arena.record_encounters) recorder_->record_contacts(world_->take_contact_records());
+    recorder_->record_tick(world_->telemetry(), journal == nullptr);
+    if (scenario_.arena.record_encounters) {
+      auto contacts = world_->take_contact_records();  // replayed ones are on disk already
+      if (journal == nullptr) recorder_->record_contacts(contacts);
+    }
   }
 }
 
@@ -246,6 +277,8 @@ RunSummary ArenaNode::finish(double wall_seconds) {
   s.agents_lost = agents_lost();
   s.decisions_dropped = counters_.stale + counters_.future + counters_.unknown_robot + counters_.invalid;
   s.frames_resent = counters_.resent_frames;
+  s.decisions_received = counters_.received;
+  s.resumed_at_tick = resumed_at_tick_;
   s.trajectory_sha256 = hash_.finish();
   s.dds = std::string(transport_.vendor());
   if (recorder_ != nullptr) {

@@ -27,6 +27,7 @@ struct DecisionCounters {
   std::uint64_t unknown_robot = 0;  ///< robot the world does not have
   std::uint64_t invalid = 0;        ///< dropped by the transport's validation
   std::uint64_t resent_frames = 0;  ///< lockstep frames sent again because no answer came
+  std::uint64_t received = 0;       ///< valid decisions taken from the wire
 };
 
 /// Lockstep: how long the arena waits for an answer before sending a frame again.
@@ -62,6 +63,12 @@ class ArenaNode {
   /// Applies the current tick's decisions, hashes the tick, steps the world, records telemetry.
   void step();
 
+  /// A resumed arena (retreat-arena --resume): steps the world from tick 0 to
+  /// `ticks` exactly as the dead arena did, applying the journalled retreat decisions at their
+  /// ticks, publishing nothing and writing no telemetry row (the rows are on disk). The world,
+  /// its RNG, the agents' records and the trajectory hash are then where the dead arena left them.
+  void replay(std::int64_t ticks, const RetreatJournal& journal);
+
   /// The run is over: duration reached, or every robot has departed and none waits.
   bool finished() const;
 
@@ -79,6 +86,8 @@ class ArenaNode {
   void take_decisions(Robot& r, std::int64_t current);
   void resend_unanswered();
   void publish_observations();
+  /// step() and replay(): `journal` null means live (decisions from the wire, journalled).
+  void advance(const RetreatJournal* journal);
 
   scenario::Scenario scenario_;
   transport::Transport& transport_;
@@ -92,6 +101,7 @@ class ArenaNode {
   std::int64_t last_published_slot_ = -1;
   std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
   std::uint32_t agents_started_ = 0;
+  std::int64_t resumed_at_tick_ = -1;
 };
 
 }  // namespace retreat::arena

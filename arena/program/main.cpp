@@ -5,7 +5,8 @@
 //         <prefix>/arena_telemetry         (ground truth, keyed by arena id)
 //         <prefix>/poses                   (positions for display, keyed by arena id)
 // Files (--out DIR): scenario.yaml, telemetry.csv, agents.csv, encounters.csv (when asked),
-//                    summary.json.
+//                    retreats.csv (the retreat decisions applied, by tick), summary.json.
+//                    --resume continues such a directory after the arena died (real time).
 //
 // Exit codes: 0 run completed (or stopped by SIGINT/SIGTERM, summary written); 2 bad input at
 // start-up; 1 middleware or file failure.
@@ -36,6 +37,10 @@ int main(int argc, char** argv) {
   std::string out_dir;
   scenario::add_common_options(app, common);
   app.add_option("--out", out_dir, "run directory to write (telemetry, summary)");
+  bool resume = false;
+  app.add_flag("--resume", resume,
+               "continue the run in --out DIR that a dead arena left, with the same agents (rebuilds "
+               "the world from the scenario and DIR/retreats.csv, then goes on from its last tick)");
   if (const auto code = scenario::parse_command_line(app, argc, argv, program)) return *code;
   scenario::Scenario s;
   try {
@@ -48,18 +53,28 @@ int main(int argc, char** argv) {
     std::cout << scenario::dump(s);
     return 0;
   }
+  if (resume && out_dir.empty()) {
+    scenario::report_error(program, "--resume needs --out DIR (the run directory to continue)");
+    return 2;
+  }
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
   try {
     std::unique_ptr<arena::RunRecorder> recorder;
-    if (!out_dir.empty()) recorder = std::make_unique<arena::RunRecorder>(out_dir, s);
+    if (!out_dir.empty()) recorder = std::make_unique<arena::RunRecorder>(out_dir, s, resume);
     transport::ParticipantOptions options;
     options.domain_id = s.dds.domain;
     options.name = "retreat-arena";
     options.user_data = "retreat:arena";
     options.profile = s.dds.profile;
+    if (s.dds.security == "on") options.security = transport::swarm_identity(s.dds.security_dir, "arena");
     auto transport = transport::make_transport(s.dds.vendor, options);
     arena::ArenaNode node(s, *transport, recorder.get());
+    if (resume) {
+      node.replay(recorder->resumable_tick(), recorder->journal());
+      std::fprintf(stderr, "retreat-arena: resumed %s at tick %lld\n", out_dir.c_str(),
+                   static_cast<long long>(node.tick()));
+    }
     const auto keep_going = [] { return !stop_requested.load(); };
     const bool lockstep = s.run.mode == "lockstep";
 

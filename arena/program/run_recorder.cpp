@@ -2,6 +2,7 @@
 
 #include <openssl/evp.h>
 
+#include <cctype>
 #include <filesystem>
 #include <iomanip>
 #include <nlohmann/json.hpp>
@@ -47,30 +48,74 @@ std::string TrajectoryHash::finish() {
   return out.str();
 }
 
-RunRecorder::RunRecorder(const std::string& dir, const scenario::Scenario& scenario)
+namespace {
+
+/// The complete lines of `path` (a half-written last line left out), and truncates the file to
+/// them. Missing file: no lines.
+std::vector<std::string> complete_lines(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return {};
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  in.close();
+  const auto end = text.rfind('\n');
+  const std::size_t keep = end == std::string::npos ? 0 : end + 1;
+  std::filesystem::resize_file(path, keep);
+  std::vector<std::string> lines;
+  std::istringstream rows(text.substr(0, keep));
+  for (std::string line; std::getline(rows, line);) lines.push_back(line);
+  return lines;
+}
+
+}  // namespace
+
+RunRecorder::RunRecorder(const std::string& dir, const scenario::Scenario& scenario, bool resume)
     : dir_(dir), scenario_(scenario) {
   std::error_code ec;
   std::filesystem::create_directories(dir_, ec);
   if (ec) throw std::runtime_error("--out '" + dir_ + "': cannot create the directory: " + ec.message());
-  std::ofstream(dir_ + "/scenario.yaml") << scenario::dump(scenario);
-  telemetry_.open(dir_ + "/telemetry.csv");
+  const auto mode = resume ? std::ios::out | std::ios::app : std::ios::out | std::ios::trunc;
+  if (resume) {
+    const auto rows = complete_lines(dir_ + "/telemetry.csv");
+    if (rows.size() > 1) resumable_tick_ = std::stoll(rows.back().substr(0, rows.back().find(',')));
+    for (const auto& row : complete_lines(dir_ + "/retreats.csv")) {
+      if (row.empty() || !std::isdigit(static_cast<unsigned char>(row[0]))) continue;  // header
+      const auto comma = row.find(',');
+      journal_.emplace(std::stoll(row.substr(0, comma)),
+                       static_cast<std::uint32_t>(std::stoul(row.substr(comma + 1))));
+    }
+    if (scenario.arena.record_encounters) complete_lines(dir_ + "/encounters.csv");
+  } else {
+    std::ofstream(dir_ + "/scenario.yaml") << scenario::dump(scenario);
+  }
+  const bool fresh = !resume || resumable_tick_ == 0;
+  telemetry_.open(dir_ + "/telemetry.csv", fresh ? std::ios::out | std::ios::trunc : mode);
   if (!telemetry_) throw std::runtime_error("--out '" + dir_ + "': cannot write telemetry.csv");
-  telemetry_ << "tick,time,inside,waiting,retreating,departed,true_density,deliveries,onsets,"
-                "free,loaded,free_colliding,loaded_colliding\n";
+  if (fresh) {
+    telemetry_ << "tick,time,inside,waiting,retreating,departed,true_density,deliveries,onsets,"
+                  "free,loaded,free_colliding,loaded_colliding\n";
+  }
+  retreats_.open(dir_ + "/retreats.csv", fresh ? std::ios::out | std::ios::trunc : mode);
+  if (fresh) retreats_ << "tick,robot\n" << std::flush;
   if (scenario.arena.record_encounters) {
-    encounters_.open(dir_ + "/encounters.csv");
-    encounters_ << "robot,other,onset_time,end_time\n";
+    encounters_.open(dir_ + "/encounters.csv", fresh ? std::ios::out | std::ios::trunc : mode);
+    if (fresh) encounters_ << "robot,other,onset_time,end_time\n";
   }
 }
 
-void RunRecorder::record_tick(const physics::Telemetry& t) {
+void RunRecorder::record_retreat(std::int64_t tick, std::uint32_t robot) {
+  retreats_ << tick << ',' << robot << '\n' << std::flush;
+}
+
+void RunRecorder::record_tick(const physics::Telemetry& t, bool write) {
+  population_.emplace_back(t.time, t.inside);
+  last_ = t;
+  if (!write) return;
   telemetry_ << t.tick << ',' << t.time << ',' << t.inside << ',' << t.waiting << ','
              << t.retreating << ',' << t.departed << ',' << t.true_density << ',' << t.deliveries
              << ',' << t.onsets;
   for (const auto n : t.state_counts) telemetry_ << ',' << n;
   telemetry_ << '\n';
-  population_.emplace_back(t.time, t.inside);
-  last_ = t;
+  telemetry_.flush();  // a killed arena leaves every tick it stepped (--resume starts there)
 }
 
 void RunRecorder::record_contacts(const std::vector<physics::ContactRecord>& records) {
@@ -133,6 +178,8 @@ void RunRecorder::finish(const physics::World& world, const std::vector<AgentRec
   j["deliveries"] = last_.deliveries;
   j["decisions_dropped"] = summary.decisions_dropped;
   j["frames_resent"] = summary.frames_resent;
+  j["decisions_received"] = summary.decisions_received;
+  if (summary.resumed_at_tick >= 0) j["resumed_at_tick"] = summary.resumed_at_tick;
   j["commands"]["accepted"] = last_.commands.accepted;
   j["commands"]["rejected_not_inside"] = last_.commands.rejected_not_inside;
   j["commands"]["rejected_unknown"] = last_.commands.rejected_unknown;

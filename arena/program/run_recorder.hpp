@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -49,18 +50,33 @@ struct RunSummary {
   std::uint32_t agents_lost = 0;
   std::uint64_t decisions_dropped = 0;  ///< unknown robot, past or future tick, invalid
   std::uint64_t frames_resent = 0;      ///< lockstep frames re-sent for want of an answer
+  std::uint64_t decisions_received = 0;  ///< decisions this arena process acted on or counted
+  std::int64_t resumed_at_tick = -1;    ///< --resume: the tick this process took over at
   std::string trajectory_sha256;
   std::string dds;
 };
 
+/// Retreat decisions a run acted on, tick by tick (`retreats.csv`): with the scenario and its
+/// seed, all a resumed arena needs to rebuild the world exactly (docs/protocol.md, "Time").
+using RetreatJournal = std::multimap<std::int64_t, std::uint32_t>;  // tick -> robot
+
 class RunRecorder {
  public:
   /// Creates `dir` (and parents) and writes scenario.yaml. Throws std::runtime_error when the
-  /// directory cannot be written.
-  RunRecorder(const std::string& dir, const scenario::Scenario& scenario);
+  /// directory cannot be written. With `resume`, continues the run directory an arena that died
+  /// left: telemetry.csv (its half-written last row dropped), retreats.csv, encounters.csv.
+  RunRecorder(const std::string& dir, const scenario::Scenario& scenario, bool resume = false);
 
-  /// Appends one telemetry row (every tick).
-  void record_tick(const physics::Telemetry& telemetry);
+  /// --resume: the tick of the last complete telemetry row (0 if none) and the journal.
+  std::int64_t resumable_tick() const { return resumable_tick_; }
+  const RetreatJournal& journal() const { return journal_; }
+
+  /// Appends one telemetry row (every tick); with `write` false (a resumed arena replaying the
+  /// ticks already on disk) only the summary's statistics are updated. Flushed at once, so
+  /// that a killed arena leaves every tick it stepped.
+  void record_tick(const physics::Telemetry& telemetry, bool write = true);
+  /// Journals a retreat decision applied at `tick` (flushed at once).
+  void record_retreat(std::int64_t tick, std::uint32_t robot);
   /// Appends completed contact intervals (when arena.record_encounters).
   void record_contacts(const std::vector<physics::ContactRecord>& records);
   /// Writes agents.csv and summary.json and flushes everything.
@@ -74,6 +90,9 @@ class RunRecorder {
   scenario::Scenario scenario_;
   std::ofstream telemetry_;
   std::ofstream encounters_;
+  std::ofstream retreats_;
+  std::int64_t resumable_tick_ = 0;
+  RetreatJournal journal_;
   // population (inside) per tick for the summary's statistics
   std::vector<std::pair<double, std::uint32_t>> population_;
   physics::Telemetry last_{};

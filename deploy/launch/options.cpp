@@ -129,7 +129,12 @@ Plan make_plan(const LaunchOptions& options, const std::string& self_dir) {
                        "for the arena, e.g. deploy/dds/fastdds-discovery-server-hub.xml)");
     }
   }
+  const bool secure = plan.scenario.dds.security == "on";
   if (o.in_process) {
+    if (secure) {
+      throw UsageError("dds.security = on: not used with --in-process (the in-memory transport has "
+                       "no DDS Security)");
+    }
     plan.vendors = {"inmemory", "inmemory"};
     if (plan.scenario.run.mode != "lockstep") {
       throw UsageError("run.mode = " + plan.scenario.run.mode +
@@ -144,7 +149,15 @@ Plan make_plan(const LaunchOptions& options, const std::string& self_dir) {
     throw UsageError("dds.vendor = inmemory: separate processes need fastdds or cyclonedds "
                      "(or use --in-process)");
   }
+  if (secure && vendor == "mixed") {
+    // docs/security.md: Fast DDS 2.9 and Cyclone DDS 0.10 do not complete secure handshakes
+    // with each other reliably.
+    throw UsageError("--dds mixed: not with dds.security = on (secure handshakes between Fast DDS "
+                     "and Cyclone DDS fail in these versions; see docs/security.md)");
+  }
   plan.vendors = vendor == "mixed" ? VendorPlan{"mixed", "cyclonedds"} : VendorPlan{vendor, vendor};
+  // Every child resolves the PKI directory from its own working directory: make it absolute.
+  if (secure) plan.overrides.push_back("dds.security_dir=" + fs::absolute(plan.scenario.dds.security_dir).string());
   // The domain: --domain, or --set dds.domain=N; otherwise a free one is picked at run time.
   if (o.domain || sets_key(o.overrides, "dds.domain")) plan.domain = plan.scenario.dds.domain;
   const std::string dir = o.bin_dir.empty() ? self_dir : o.bin_dir;

@@ -14,6 +14,7 @@
 #include "progress.hpp"
 #include "retreat/transport/factory.hpp"
 #include "run.hpp"
+#include "shared_memory.hpp"
 #include "summary.hpp"
 
 namespace retreat::launch {
@@ -30,6 +31,13 @@ constexpr std::uint32_t endless_spare_agents = 4;
 constexpr auto agent_stagger = 5ms;
 constexpr auto arena_stop_grace = 10s;  // it writes the run directory's summary on SIGTERM
 constexpr auto child_stop_grace = 5s;
+/// A bridge that dies mid-run is restarted (it appends to agent_status.csv; telemetry.csv is
+/// the arena's), at most this many times: a bridge that keeps dying is left dead.
+constexpr std::uint32_t max_bridge_restarts = 10;
+/// Real time: an arena killed by a signal is restarted with --resume (it rebuilds its world from
+/// the run directory; the agents keep running and see a gap in the ticks), at most this often.
+/// Lockstep runs are not resumed: a dead lockstep arena fails the run (rerun it from its seed).
+constexpr std::uint32_t max_arena_restarts = 5;
 
 struct AgentProcess {
   std::uint32_t robot;
@@ -48,6 +56,8 @@ class TelemetryWatch {
     o.name = "retreat-launch";
     o.user_data = "retreat:launch";
     o.profile = s.dds.profile;
+    // Secure swarm: the launcher reads telemetry with the bridge's identity (read-only).
+    if (s.dds.security == "on") o.security = transport::swarm_identity(s.dds.security_dir, "bridge");
     transport_ = transport::make_transport(vendor, o);
     reader_.emplace(transport_->create_reader<wire::ArenaTelemetry>(
         {wire::arena_telemetry_topic(s.dds.prefix), transport::QosIntent::state()}));
@@ -82,6 +92,40 @@ void write_processes(const std::string& dir, int domain, const ChildProcess& are
   write_json_atomically(dir + "/processes.json", j);
 }
 
+std::string kib(std::uint64_t bytes) { return std::to_string(bytes / 1024) + " KiB"; }
+
+/// Before every launch: stale Fast DDS segments go (their owners are dead), and with a Fast DDS
+/// profile that uses shared memory a /dev/shm too full for every Fast DDS process of the run is
+/// refused in one line (std::invalid_argument: exit 2), since they would die of SIGBUS.
+void prepare_shared_memory(const Plan& plan, const scenario::Scenario& s, std::uint32_t agents,
+                           ProgressLine& progress) {
+  const std::string shm = "/dev/shm";
+  const auto cleaned = remove_stale_fastdds_segments(shm);
+  if (cleaned.segments > 0) {
+    progress.message("retreat-launch: removed " + std::to_string(cleaned.segments) +
+                     " stale Fast DDS shared-memory segments (" + kib(cleaned.bytes) + ") from " + shm);
+  }
+  const bool fast_arena = plan.vendors.arena == "fastdds";
+  const std::string arena_profile =
+      plan.options.arena_profile.empty() ? s.dds.profile : plan.options.arena_profile;
+  std::uint32_t users = fast_arena && profile_uses_shared_memory(arena_profile) ? 1 : 0;
+  if (profile_uses_shared_memory(s.dds.profile)) {
+    // The launcher's own telemetry reader and the bridge use the arena's vendor.
+    if (fast_arena) users += plan.bridge_exe.empty() ? 1 : 2;
+    for (std::uint32_t r = 0; r < agents; ++r) users += plan.vendors.agent(r) == "fastdds" ? 1 : 0;
+  }
+  const auto need = users * shm_bytes_per_participant;
+  const auto free = free_bytes(shm);
+  if (users > 0 && free < need) {
+    throw std::invalid_argument(
+        shm + " has " + kib(free) + " free; the " + std::to_string(users) +
+        " Fast DDS processes of this run use shared memory (dds.profile " +
+        (profile_uses_shared_memory(s.dds.profile) ? s.dds.profile : arena_profile) + ") and need about " +
+        kib(need) + ", or die of SIGBUS: free " + shm +
+        " or use a profile without shared memory (deploy/dds/fastdds-loopback.xml)");
+  }
+}
+
 }  // namespace
 
 RunOutcome run_processes(const Plan& plan, std::uint64_t seed, const std::string& dir, int domain) {
@@ -102,6 +146,9 @@ RunOutcome run_processes(const Plan& plan, std::uint64_t seed, const std::string
   };
 
   ProgressLine progress(s.name + " seed " + std::to_string(seed), s.run.duration);
+  prepare_shared_memory(plan, s,
+                        s.arena.robots_inside + s.arena.robots_waiting + (plan.endless ? endless_spare_agents : 0),
+                        progress);
   std::unique_ptr<ChildProcess> arena, bridge;
   std::vector<AgentProcess> agents;
   std::map<std::string, std::uint32_t> agent_vendors;
@@ -123,12 +170,15 @@ RunOutcome run_processes(const Plan& plan, std::uint64_t seed, const std::string
   };
 
   bool stopped = false;
+  std::uint32_t bridge_restarts = 0;
+  std::uint32_t arena_restarts = 0;
   std::optional<ExitStatus> arena_status;
   std::optional<double> first_tick_seconds;
   try {
     // The arena first: it waits for the agents itself (run.startup_timeout), and with Fast DDS
     // its low participant index keeps it among every agent's initial unicast peers.
     auto arena_args = with({plan.arena_exe, "--dds", plan.vendors.arena, "--out", dir});
+    const bool realtime = s.run.mode == "realtime";
     if (!plan.options.arena_profile.empty()) {
       arena_args.push_back("--set");  // after the user's --set: this one wins
       arena_args.push_back("dds.profile=" + fs::absolute(plan.options.arena_profile).string());
@@ -140,11 +190,15 @@ RunOutcome run_processes(const Plan& plan, std::uint64_t seed, const std::string
       std::this_thread::sleep_for(agent_stagger);
       start_agent(r);
     }
-    if (!plan.bridge_exe.empty() && stop_signal.load() == 0) {
+    const auto start_bridge = [&] {
+      const std::string log = bridge_restarts == 0
+                                  ? "bridge.log"
+                                  : "bridge.restart_" + std::to_string(bridge_restarts) + ".log";
       bridge = std::make_unique<ChildProcess>(
           "retreat-bridge", with({plan.bridge_exe, "--dds", plan.vendors.arena, "--out", dir}),
-          dir + "/logs/bridge.log");
-    }
+          dir + "/logs/" + log);
+    };
+    if (!plan.bridge_exe.empty() && stop_signal.load() == 0) start_bridge();
     write_processes(dir, domain, *arena, plan.vendors.arena, agents, bridge.get());
 
     std::unique_ptr<TelemetryWatch> watch;
@@ -161,7 +215,18 @@ RunOutcome run_processes(const Plan& plan, std::uint64_t seed, const std::string
         stopped = true;
         break;
       }
-      if (arena->poll()) break;
+      if (const auto& st = arena->poll()) {
+        if (!realtime || st->signal == 0 || arena_restarts == max_arena_restarts) break;
+        ++arena_restarts;
+        const std::string log = dir + "/logs/arena.restart_" + std::to_string(arena_restarts) + ".log";
+        progress.message("retreat-launch: retreat-arena (pid " + std::to_string(arena->pid()) + ") " +
+                         st->describe() + "; restarting it with --resume (" + log + ")");
+        auto resume_args = arena_args;
+        resume_args.push_back("--resume");
+        arena = std::make_unique<ChildProcess>("retreat-arena", resume_args, log);
+        write_processes(dir, domain, *arena, plan.vendors.arena, agents, bridge.get());
+        continue;
+      }
       for (auto& a : agents) {
         const auto& st = a.process->poll();
         if (!st || a.reported) continue;
@@ -174,9 +239,17 @@ RunOutcome run_processes(const Plan& plan, std::uint64_t seed, const std::string
         }
       }
       if (bridge && !bridge_reported && bridge->poll()) {
-        bridge_reported = true;
-        progress.message("retreat-launch: retreat-bridge " + bridge->poll()->describe() + " (" +
-                         bridge->log_path() + "); the run goes on");
+        const bool restart = bridge_restarts < max_bridge_restarts;
+        progress.message("retreat-launch: retreat-bridge (pid " + std::to_string(bridge->pid()) +
+                         ") " + bridge->poll()->describe() + " (" + bridge->log_path() + "); " +
+                         (restart ? "restarting it" : "the run goes on without it"));
+        if (restart) {
+          ++bridge_restarts;
+          start_bridge();
+          write_processes(dir, domain, *arena, plan.vendors.arena, agents, bridge.get());
+        } else {
+          bridge_reported = true;
+        }
       }
       std::optional<wire::ArenaTelemetry> t;
       if (watch) {
@@ -233,6 +306,8 @@ RunOutcome run_processes(const Plan& plan, std::uint64_t seed, const std::string
   record.arena_vendor = plan.vendors.arena;
   record.agent_vendors = agent_vendors;
   record.bridge = bridge != nullptr;
+  record.bridge_restarts = bridge_restarts;
+  record.arena_restarts = arena_restarts;
   record.seconds_to_first_tick = first_tick_seconds.value_or(-1.0);
   RunOutcome out;
   out.stopped = stopped;

@@ -58,6 +58,8 @@ nlohmann::json update_summary(const std::string& dir, const LaunchRecord& r) {
   launch["arena_vendor"] = r.arena_vendor;
   launch["agent_vendors"] = r.agent_vendors;
   launch["bridge"] = r.bridge;
+  if (r.bridge) launch["bridge_restarts"] = r.bridge_restarts;
+  if (r.mode == "processes") launch["arena_restarts"] = r.arena_restarts;
   if (r.seconds_to_first_tick >= 0) launch["seconds_to_first_tick"] = r.seconds_to_first_tick;
   j["launch"] = launch;
   write_json_atomically(path, j);

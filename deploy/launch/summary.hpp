@@ -21,6 +21,8 @@ struct LaunchRecord {
   std::string arena_vendor;
   std::map<std::string, std::uint32_t> agent_vendors;  ///< vendor -> agent processes
   bool bridge = false;
+  std::uint32_t bridge_restarts = 0;  ///< times the launcher restarted a bridge that died
+  std::uint32_t arena_restarts = 0;   ///< times it resumed a real-time arena that died
   /// From the launch until the launcher saw the arena's first telemetry (tick 0, published once
   /// the agents matched) [s]; −1: not seen (in-process, or no telemetry reader).
   double seconds_to_first_tick = -1.0;

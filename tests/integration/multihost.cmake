@@ -1,6 +1,8 @@
 # Multi-host test (tests/integration/multihost_test.cpp): the arena and the agents in three network
 # namespaces joined by veth links to a bridge in a fourth, with the shipped multi-host profiles.
-# Needs root (skipped otherwise). DDS domain ids 150..151. Under a minute.
+# Also over a lossy network (5 % loss per host with nftables; 20 ± 5 ms netem delay where the
+# kernel has sch_netem). Needs root (skipped otherwise) and nftables for the lossy cases.
+# DDS domain ids 150..156. About 70 s in all (each case under 30 s).
 if(RETREAT_WITH_FASTDDS OR RETREAT_WITH_CYCLONEDDS)
   retreat_test(multihost_test
     SOURCES ${CMAKE_CURRENT_LIST_DIR}/multihost_test.cpp

@@ -1,5 +1,7 @@
 #include "retreat/bridge/receiver.hpp"
 
+#include <filesystem>
+#include <fstream>
 #include <stdexcept>
 
 #include "retreat/wire/topics.hpp"
@@ -8,11 +10,32 @@ namespace retreat::bridge {
 
 using namespace std::chrono_literals;
 
+namespace {
+
+constexpr const char* header =
+    "time,robot,tick,deciding,retreating,onsets_in_window,lambda_hat,epsilon\n";
+
+/// Bytes of `path` up to and including its last newline if it begins with the header; 0 if it
+/// does not exist, is empty or holds something else (then it is rewritten).
+std::size_t complete_rows_size(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return 0;
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (text.rfind(header, 0) != 0) return 0;
+  return text.rfind('\n') + 1;
+}
+
+}  // namespace
+
 StatusRecorder::StatusRecorder(const std::string& dir) {
   const auto path = dir + "/" + file_name;
-  out_.open(path, std::ios::out | std::ios::trunc);
+  // A restarted bridge (retreat-launch restarts one that died) continues the record: it drops
+  // a row the dead one left half written and appends after the last complete one.
+  const std::size_t complete = complete_rows_size(path);
+  if (complete > 0) std::filesystem::resize_file(path, complete);
+  out_.open(path, std::ios::out | (complete > 0 ? std::ios::app : std::ios::trunc));
   if (!out_) throw std::runtime_error("--out '" + dir + "': cannot write " + file_name);
-  out_ << "time,robot,tick,deciding,retreating,onsets_in_window,lambda_hat,epsilon\n";
+  if (complete == 0) out_ << header;
   out_.precision(9);
 }
 

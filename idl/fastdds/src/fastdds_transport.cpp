@@ -25,6 +25,7 @@
 #include <stdexcept>
 
 #include "fastdds_convert.hpp"
+#include "fastdds_type_support.hpp"
 #include "retreat_msgsPubSubTypes.h"
 
 namespace retreat::transport {
@@ -256,14 +257,19 @@ class FastParticipant : public std::enable_shared_from_this<FastParticipant> {
                                     "profile named '" + profile_name + "'");
       }
     }
+    if (options.security.enabled()) add_security(qos, options.security);
     qos.name(options.name.empty() ? "retreat" : options.name);
     qos.user_data().data_vec(std::vector<rtps::octet>(options.user_data.begin(), options.user_data.end()));
     participant_ = factory->create_participant(static_cast<dds::DomainId_t>(options.domain_id), qos,
                                                &listener_, dds::StatusMask::none());
     if (participant_ == nullptr) {
       throw std::runtime_error("Fast DDS refused to create a participant on domain " +
-                               std::to_string(options.domain_id));
+                               std::to_string(options.domain_id) +
+                               (options.security.enabled()
+                                    ? " (DDS Security: check the identity, governance and permissions files)"
+                                    : ""));
     }
+    secure_ = options.security.enabled();
     publisher_ = participant_->create_publisher(dds::PUBLISHER_QOS_DEFAULT);
     subscriber_ = participant_->create_subscriber(dds::SUBSCRIBER_QOS_DEFAULT);
     if (publisher_ == nullptr || subscriber_ == nullptr) {
@@ -284,7 +290,7 @@ class FastParticipant : public std::enable_shared_from_this<FastParticipant> {
       const std::string type(wire::type_name(kind));
       if (participant_->find_type(type).empty()) {
         dispatch(kind, [&](auto traits) {
-          dds::TypeSupport support(new typename decltype(traits)::PubSub());
+          dds::TypeSupport support(new fastdds::SafeTypeSupport<typename decltype(traits)::PubSub>());
           support.get()->auto_fill_type_information(false);
           support.get()->auto_fill_type_object(false);
           support.register_type(participant_);
@@ -292,7 +298,8 @@ class FastParticipant : public std::enable_shared_from_this<FastParticipant> {
       }
       entry.topic = participant_->create_topic(name, type, dds::TOPIC_QOS_DEFAULT);
       if (entry.topic == nullptr) {
-        throw std::runtime_error("Fast DDS refused to create topic '" + name + "' of type " + type);
+        throw std::runtime_error("Fast DDS refused to create topic '" + name + "' of type " + type +
+                                 refusal_hint());
       }
     } else if (entry.topic->get_type_name() != wire::type_name(kind)) {
       throw std::invalid_argument("topic '" + name + "' already has type " +
@@ -328,6 +335,12 @@ class FastParticipant : public std::enable_shared_from_this<FastParticipant> {
     return true;
   }
 
+  /// Why an endpoint may have been refused, for the one-line error.
+  std::string refusal_hint() const {
+    return secure_ ? " (not granted by this participant's DDS Security permissions, or refused by the middleware)"
+                   : "";
+  }
+
   dds::DomainParticipant* participant() const { return participant_; }
   dds::Publisher* publisher() const { return publisher_; }
   dds::Subscriber* subscriber() const { return subscriber_; }
@@ -352,6 +365,24 @@ class FastParticipant : public std::enable_shared_from_this<FastParticipant> {
     return qos;
   }
 
+  /// The built-in plugins of Fast DDS 2.9 (PKI-DH, Access-Permissions, AES-GCM-GMAC), set as
+  /// participant properties; certificates and documents as `file://` URIs of absolute paths.
+  static void add_security(dds::DomainParticipantQos& qos, const SecurityOptions& s) {
+    const auto uri = [](const std::string& path) {
+      return "file://" + std::filesystem::absolute(path).string();
+    };
+    auto& p = qos.properties().properties();
+    p.emplace_back("dds.sec.auth.plugin", "builtin.PKI-DH");
+    p.emplace_back("dds.sec.auth.builtin.PKI-DH.identity_ca", uri(s.identity_ca));
+    p.emplace_back("dds.sec.auth.builtin.PKI-DH.identity_certificate", uri(s.identity_certificate));
+    p.emplace_back("dds.sec.auth.builtin.PKI-DH.private_key", uri(s.private_key));
+    p.emplace_back("dds.sec.access.plugin", "builtin.Access-Permissions");
+    p.emplace_back("dds.sec.access.builtin.Access-Permissions.permissions_ca", uri(s.permissions_ca));
+    p.emplace_back("dds.sec.access.builtin.Access-Permissions.governance", uri(s.governance));
+    p.emplace_back("dds.sec.access.builtin.Access-Permissions.permissions", uri(s.permissions));
+    p.emplace_back("dds.sec.crypto.plugin", "builtin.AES-GCM-GMAC");
+  }
+
   struct TopicEntry {
     dds::Topic* topic = nullptr;
     int users = 0;
@@ -360,6 +391,7 @@ class FastParticipant : public std::enable_shared_from_this<FastParticipant> {
   dds::DomainParticipant* participant_ = nullptr;
   dds::Publisher* publisher_ = nullptr;
   dds::Subscriber* subscriber_ = nullptr;
+  bool secure_ = false;
   std::mutex mutex_;
   std::map<std::string, TopicEntry> topics_;
 };
@@ -373,7 +405,8 @@ FastWriterPort<T>::FastWriterPort(std::shared_ptr<FastParticipant> owner, dds::P
   if (writer_ == nullptr) {
     const auto name = topic_->get_name();
     owner_->release_topic(topic_);
-    throw std::runtime_error("Fast DDS refused to create a writer on '" + name + "'");
+    throw std::runtime_error("Fast DDS refused to create a writer on '" + name + "'" +
+                             owner_->refusal_hint());
   }
 }
 
@@ -394,7 +427,8 @@ FastReaderPort<T>::FastReaderPort(std::shared_ptr<FastParticipant> owner,
   if (reader_ == nullptr) {
     const auto name = topic_->get_name();
     owner_->release_topic(topic_);
-    throw std::runtime_error("Fast DDS refused to create a reader on '" + name + "'");
+    throw std::runtime_error("Fast DDS refused to create a reader on '" + name + "'" +
+                             owner_->refusal_hint());
   }
 }
 
