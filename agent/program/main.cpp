@@ -8,6 +8,7 @@
 // 1 middleware failure.
 
 #include <atomic>
+#include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <iostream>
@@ -20,6 +21,10 @@ namespace {
 
 std::atomic<bool> stop_requested{false};
 extern "C" void on_signal(int) { stop_requested.store(true); }
+
+/// Once the work is done and recorded, deleting the DDS participant may take at most this long
+/// (Fast DDS 2.9 was once seen blocked for good in it, with peers still alive).
+constexpr std::chrono::seconds teardown_limit{10};
 
 }  // namespace
 
@@ -74,6 +79,7 @@ int main(int argc, char** argv) {
                  static_cast<unsigned long long>(c.frames_dropped),
                  static_cast<unsigned long long>(c.decisions_sent),
                  node.agent().retreating() ? "yes" : "no");
+    scenario::limit_teardown(program, teardown_limit, 0);  // nothing left to send or record
     return 0;
   } catch (const std::invalid_argument& e) {
     scenario::report_error(program, e.what());

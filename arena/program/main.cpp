@@ -12,6 +12,7 @@
 // start-up; 1 middleware or file failure.
 
 #include <atomic>
+#include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <iostream>
@@ -25,6 +26,10 @@ namespace {
 
 std::atomic<bool> stop_requested{false};
 extern "C" void on_signal(int) { stop_requested.store(true); }
+
+/// Once the work is done and recorded, deleting the DDS participant may take at most this long
+/// (Fast DDS 2.9 was once seen blocked for good in it, with peers still alive).
+constexpr std::chrono::seconds teardown_limit{10};
 
 }  // namespace
 
@@ -106,6 +111,8 @@ int main(int argc, char** argv) {
                  wall > 0 ? static_cast<double>(summary.ticks) / wall : 0.0, summary.agents_lost,
                  static_cast<unsigned long long>(summary.decisions_dropped),
                  summary.trajectory_sha256.c_str());
+    // The run directory is complete: a DDS teardown that hangs must not hold the run up.
+    scenario::limit_teardown(program, teardown_limit, 0);
     return 0;
   } catch (const std::invalid_argument& e) {
     scenario::report_error(program, e.what());

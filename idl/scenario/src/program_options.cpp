@@ -1,6 +1,9 @@
 #include "retreat/scenario/program_options.hpp"
 
 #include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <thread>
 
 namespace retreat::scenario {
 
@@ -38,6 +41,16 @@ Scenario load_scenario(const CommonOptions& options) {
 void report_error(std::string_view program, std::string_view message) {
   std::fprintf(stderr, "%.*s: %.*s\n", static_cast<int>(program.size()), program.data(),
                static_cast<int>(message.size()), message.data());
+}
+
+void limit_teardown(std::string_view program, std::chrono::seconds limit, int code) {
+  std::thread([name = std::string(program), limit, code] {
+    std::this_thread::sleep_for(limit);
+    std::fprintf(stderr, "%s: teardown still running after %lld s; exiting without waiting for it\n",
+                 name.c_str(), static_cast<long long>(limit.count()));
+    std::fflush(stderr);
+    std::_Exit(code);
+  }).detach();
 }
 
 }  // namespace retreat::scenario

@@ -5,6 +5,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <chrono>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -35,5 +36,11 @@ Scenario load_scenario(const CommonOptions& options);
 
 /// Prints "<program>: <message>" as one line on stderr.
 void report_error(std::string_view program, std::string_view message);
+
+/// Bounds the teardown of a program whose work is done and recorded: if the process is still
+/// alive @p limit after this call (a DDS participant that does not finish deleting itself, say),
+/// prints one line on stderr and ends the process at once with @p code. A process that exits in
+/// time is not affected. Call it once, after the last output that matters has been written.
+void limit_teardown(std::string_view program, std::chrono::seconds limit, int code);
 
 }  // namespace retreat::scenario
