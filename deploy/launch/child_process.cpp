@@ -6,9 +6,11 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <stdexcept>
+#include <string_view>
 #include <thread>
 
 namespace retreat::launch {
@@ -22,13 +24,24 @@ std::string ExitStatus::describe() const {
 }
 
 ChildProcess::ChildProcess(std::string name, const std::vector<std::string>& argv,
-                           const std::string& log_path)
+                           const std::string& log_path, const std::vector<std::string>& extra_env)
     : name_(std::move(name)), log_path_(log_path) {
   // Everything the child needs is prepared before fork(): after it, the child may only make
   // async-signal-safe calls (the launcher has middleware threads).
   std::vector<char*> args;
   for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
+  std::vector<char*> env;
+  const auto overridden = [&](std::string_view entry) {
+    const auto prefix = entry.substr(0, entry.find('=') + 1);  // "NAME="
+    return std::any_of(extra_env.begin(), extra_env.end(),
+                       [&](const std::string& e) { return std::string_view(e).starts_with(prefix); });
+  };
+  for (char** e = environ; *e != nullptr; ++e) {
+    if (!overridden(*e)) env.push_back(*e);
+  }
+  for (const auto& e : extra_env) env.push_back(const_cast<char*>(e.c_str()));
+  env.push_back(nullptr);
   const int log_fd = ::open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (log_fd < 0) throw std::runtime_error("cannot write '" + log_path + "': " + std::strerror(errno));
   const int null_fd = ::open("/dev/null", O_RDONLY | O_CLOEXEC);
@@ -55,7 +68,7 @@ ChildProcess::ChildProcess(std::string name, const std::vector<std::string>& arg
     for (int fd = 3; fd < 1024; ++fd) {
       if (fd != report[1]) ::close(fd);
     }
-    ::execv(args[0], args.data());
+    ::execve(args[0], args.data(), env.data());
     const int e = errno;
     [[maybe_unused]] const auto n = ::write(report[1], &e, sizeof e);
     ::_exit(127);

@@ -22,9 +22,11 @@ struct ExitStatus {
 
 class ChildProcess {
  public:
-  /// Starts `argv[0]` (a path) with stdin from /dev/null and stdout+stderr into `log_path`.
-  /// Throws std::runtime_error when the program cannot be started.
-  ChildProcess(std::string name, const std::vector<std::string>& argv, const std::string& log_path);
+  /// Starts `argv[0]` (a path) with stdin from /dev/null and stdout+stderr into `log_path`, in
+  /// the launcher's environment plus `extra_env` ("NAME=value" each, replacing a variable of the
+  /// same name). Throws std::runtime_error when the program cannot be started.
+  ChildProcess(std::string name, const std::vector<std::string>& argv, const std::string& log_path,
+               const std::vector<std::string>& extra_env = {});
   ~ChildProcess();  ///< kills (SIGKILL) and reaps a child still running
   ChildProcess(ChildProcess&& other) noexcept;
   ChildProcess& operator=(ChildProcess&&) = delete;

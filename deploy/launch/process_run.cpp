@@ -190,13 +190,23 @@ RunOutcome run_processes(const Plan& plan, std::uint64_t seed, const std::string
       std::this_thread::sleep_for(agent_stagger);
       start_agent(r);
     }
+    const bool cyclone_star = plan.vendors.arena == "cyclonedds" && !plan.options.arena_profile.empty();
     const auto start_bridge = [&] {
       const std::string log = bridge_restarts == 0
                                   ? "bridge.log"
                                   : "bridge.restart_" + std::to_string(bridge_restarts) + ".log";
-      bridge = std::make_unique<ChildProcess>(
-          "retreat-bridge", with({plan.bridge_exe, "--dds", plan.vendors.arena, "--out", dir}),
-          dir + "/logs/" + log);
+      auto bridge_args = with({plan.bridge_exe, "--dds", plan.vendors.arena, "--out", dir});
+      std::vector<std::string> bridge_env;
+      if (cyclone_star) {
+        // Agents of a Cyclone star announce to participant indices 0 (the hub: the arena) and 1
+        // only (deploy/dds/cyclonedds-star-agent.xml): the bridge, which reads every agent's
+        // status, runs the hub's file as index 1.
+        bridge_args.push_back("--set");
+        bridge_args.push_back("dds.profile=" + fs::absolute(plan.options.arena_profile).string());
+        bridge_env.push_back("RETREAT_DDS_PARTICIPANT_INDEX=1");
+      }
+      bridge = std::make_unique<ChildProcess>("retreat-bridge", bridge_args, dir + "/logs/" + log,
+                                              bridge_env);
     };
     if (!plan.bridge_exe.empty() && stop_signal.load() == 0) start_bridge();
     write_processes(dir, domain, *arena, plan.vendors.arena, agents, bridge.get());

@@ -8,6 +8,7 @@ if(RETREAT_WITH_FASTDDS OR RETREAT_WITH_CYCLONEDDS)
     LABELS integration TIMEOUT 180)
   target_compile_definitions(launch_test PRIVATE
     RETREAT_LAUNCH_BIN="$<TARGET_FILE:retreat-launch>"
-    RETREAT_SCENARIOS="${PROJECT_SOURCE_DIR}/deploy/scenarios")
+    RETREAT_SCENARIOS="${PROJECT_SOURCE_DIR}/deploy/scenarios"
+    RETREAT_PROFILES="${PROJECT_SOURCE_DIR}/deploy/dds")
   add_dependencies(launch_test retreat-launch)
 endif()

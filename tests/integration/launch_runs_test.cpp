@@ -6,6 +6,10 @@
 
 #include <unistd.h>
 
+#include <fstream>
+#include <set>
+#include <string>
+
 #include "launch_support.hpp"
 
 namespace retreat::launch_test {
@@ -20,6 +24,7 @@ constexpr int domain_realtime = 58;
 constexpr int domain_endless = 61;
 constexpr int domain_bridge = 62;
 constexpr int domain_seed = 63;
+constexpr int domain_cyclone_star = 64;
 
 std::vector<std::string> args(std::vector<std::string> head, const std::vector<std::string>& tail) {
   head.insert(head.end(), tail.begin(), tail.end());
@@ -191,6 +196,31 @@ TEST(LaunchRuns, TheBridgeIsStartedBesideTheSwarmAndStoppedAfterIt) {
   ASSERT_FALSE(processes["bridge"].is_null());
   EXPECT_TRUE(alive(child_pids(processes)).empty());
   EXPECT_TRUE(std::filesystem::exists(dir + "/run/logs/bridge.log"));
+}
+
+// A Cyclone star (deploy/dds/cyclonedds-star-*.xml): agents announce to participant indices 0
+// (the hub, the arena) and 1 only, so the launcher runs the bridge on the hub's file as index 1;
+// otherwise it would hear no agent. Every robot's status reaching agent_status.csv proves it.
+TEST(LaunchRuns, InACycloneStarTheBridgeHearsEveryAgent) {
+  if (!built("cyclonedds")) GTEST_SKIP() << "needs Cyclone DDS";
+  if (::access(bridge_program.c_str(), X_OK) != 0) GTEST_SKIP() << "retreat-bridge is not built";
+  const std::string profiles = std::string(RETREAT_PROFILES) + "/";
+  const auto dir = fresh_dir("cyclone-star-bridge");
+  ASSERT_EQ(run_launch(dir, {robotarium, "--dds", "cyclonedds", "--domain", std::to_string(domain_cyclone_star),
+                             "--arena-profile", profiles + "cyclonedds-star-hub.xml", "--set",
+                             "dds.profile=" + profiles + "cyclonedds-star-agent.xml", "--set", "run.duration=100",
+                             "--set", "bridge.http=127.0.0.1:0"},
+                       90s, /*bridge=*/true), 0) << log_of(dir);
+  std::ifstream statuses(dir + "/run/agent_status.csv");
+  ASSERT_TRUE(statuses.good()) << log_of(dir);
+  std::string line;
+  std::getline(statuses, line);  // header: time,robot,...
+  std::set<int> robots;
+  while (std::getline(statuses, line)) {
+    const auto first = line.find(',');
+    if (first != std::string::npos) robots.insert(std::stoi(line.substr(first + 1)));
+  }
+  EXPECT_EQ(robots.size(), 12U) << "robots heard by the bridge: " << robots.size();
 }
 
 }  // namespace
