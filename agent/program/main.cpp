@@ -7,26 +7,13 @@
 // Exit codes: 0 after the robot departed or on SIGINT/SIGTERM; 2 bad input at start-up;
 // 1 middleware failure.
 
-#include <atomic>
 #include <chrono>
-#include <csignal>
 #include <cstdio>
 #include <iostream>
 
 #include "agent_node.hpp"
 #include "retreat/scenario/program_options.hpp"
 #include "retreat/transport/factory.hpp"
-
-namespace {
-
-std::atomic<bool> stop_requested{false};
-extern "C" void on_signal(int) { stop_requested.store(true); }
-
-/// Once the work is done and recorded, deleting the DDS participant may take at most this long
-/// (Fast DDS 2.9 was once seen blocked for good in it, with peers still alive).
-constexpr std::chrono::seconds teardown_limit{10};
-
-}  // namespace
 
 int main(int argc, char** argv) {
   using namespace retreat;
@@ -54,8 +41,7 @@ int main(int argc, char** argv) {
     return 0;
   }
 
-  std::signal(SIGINT, on_signal);
-  std::signal(SIGTERM, on_signal);
+  scenario::install_stop_handlers();
   try {
     transport::ParticipantOptions options;
     options.domain_id = s.dds.domain;
@@ -67,7 +53,7 @@ int main(int argc, char** argv) {
     }
     auto transport = transport::make_transport(s.dds.vendor, options);
     agent::AgentNode node(s, robot_id, *transport);
-    while (!stop_requested.load() && !node.departed()) {
+    while (!scenario::stop_requested() && !node.departed()) {
       node.spin_once(std::chrono::milliseconds(100));
     }
     node.flush(std::chrono::seconds(1));
@@ -79,7 +65,7 @@ int main(int argc, char** argv) {
                  static_cast<unsigned long long>(c.frames_dropped),
                  static_cast<unsigned long long>(c.decisions_sent),
                  node.agent().retreating() ? "yes" : "no");
-    scenario::limit_teardown(program, teardown_limit, 0);  // nothing left to send or record
+    scenario::limit_teardown(program, scenario::teardown_limit, 0);  // nothing left to send or record
     return 0;
   } catch (const std::invalid_argument& e) {
     scenario::report_error(program, e.what());

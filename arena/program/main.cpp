@@ -11,9 +11,7 @@
 // Exit codes: 0 run completed (or stopped by SIGINT/SIGTERM, summary written); 2 bad input at
 // start-up; 1 middleware or file failure.
 
-#include <atomic>
 #include <chrono>
-#include <csignal>
 #include <cstdio>
 #include <iostream>
 #include <thread>
@@ -21,17 +19,6 @@
 #include "arena_node.hpp"
 #include "retreat/scenario/program_options.hpp"
 #include "retreat/transport/factory.hpp"
-
-namespace {
-
-std::atomic<bool> stop_requested{false};
-extern "C" void on_signal(int) { stop_requested.store(true); }
-
-/// Once the work is done and recorded, deleting the DDS participant may take at most this long
-/// (Fast DDS 2.9 was once seen blocked for good in it, with peers still alive).
-constexpr std::chrono::seconds teardown_limit{10};
-
-}  // namespace
 
 int main(int argc, char** argv) {
   using namespace retreat;
@@ -62,8 +49,7 @@ int main(int argc, char** argv) {
     scenario::report_error(program, "--resume needs --out DIR (the run directory to continue)");
     return 2;
   }
-  std::signal(SIGINT, on_signal);
-  std::signal(SIGTERM, on_signal);
+  scenario::install_stop_handlers();
   try {
     std::unique_ptr<arena::RunRecorder> recorder;
     if (!out_dir.empty()) recorder = std::make_unique<arena::RunRecorder>(out_dir, s, resume);
@@ -80,7 +66,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "retreat-arena: resumed %s at tick %lld\n", out_dir.c_str(),
                    static_cast<long long>(node.tick()));
     }
-    const auto keep_going = [] { return !stop_requested.load(); };
+    const auto keep_going = [] { return !scenario::stop_requested(); };
     const bool lockstep = s.run.mode == "lockstep";
 
     const auto matched = node.wait_for_agents(std::chrono::duration_cast<std::chrono::nanoseconds>(
@@ -112,7 +98,7 @@ int main(int argc, char** argv) {
                  static_cast<unsigned long long>(summary.decisions_dropped),
                  summary.trajectory_sha256.c_str());
     // The run directory is complete: a DDS teardown that hangs must not hold the run up.
-    scenario::limit_teardown(program, teardown_limit, 0);
+    scenario::limit_teardown(program, scenario::teardown_limit, 0);
     return 0;
   } catch (const std::invalid_argument& e) {
     scenario::report_error(program, e.what());

@@ -1,5 +1,7 @@
 #include "retreat/scenario/program_options.hpp"
 
+#include <atomic>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -42,6 +44,20 @@ void report_error(std::string_view program, std::string_view message) {
   std::fprintf(stderr, "%.*s: %.*s\n", static_cast<int>(program.size()), program.data(),
                static_cast<int>(message.size()), message.data());
 }
+
+namespace {
+
+std::atomic<bool> stop_flag{false};  // lock-free: safe to set from a signal handler
+extern "C" void on_stop_signal(int) { stop_flag.store(true); }
+
+}  // namespace
+
+void install_stop_handlers() {
+  std::signal(SIGINT, on_stop_signal);
+  std::signal(SIGTERM, on_stop_signal);
+}
+
+bool stop_requested() { return stop_flag.load(); }
 
 void limit_teardown(std::string_view program, std::chrono::seconds limit, int code) {
   std::thread([name = std::string(program), limit, code] {

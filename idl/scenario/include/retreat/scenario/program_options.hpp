@@ -37,6 +37,16 @@ Scenario load_scenario(const CommonOptions& options);
 /// Prints "<program>: <message>" as one line on stderr.
 void report_error(std::string_view program, std::string_view message);
 
+/// Makes SIGINT and SIGTERM request a stop (see stop_requested) instead of ending the process.
+void install_stop_handlers();
+
+/// Whether SIGINT or SIGTERM has arrived since install_stop_handlers().
+bool stop_requested();
+
+/// How long a program whose work is done and recorded may take to tear down (delete its DDS
+/// participant): Fast DDS 2.9 was once seen blocked for good in that, with peers still alive.
+inline constexpr std::chrono::seconds teardown_limit{10};
+
 /// Bounds the teardown of a program whose work is done and recorded: if the process is still
 /// alive @p limit after this call (a DDS participant that does not finish deleting itself, say),
 /// prints one line on stderr and ends the process at once with @p code. A process that exits in
