@@ -43,15 +43,10 @@ int main(int argc, char** argv) {
 
   scenario::install_stop_handlers();
   try {
-    transport::ParticipantOptions options;
-    options.domain_id = s.dds.domain;
-    options.name = "retreat-agent/robot_" + std::to_string(robot_id);
-    options.user_data = agent::agent_user_data(robot_id);
-    options.profile = s.dds.profile;
-    if (s.dds.security == "on") {
-      options.security = transport::swarm_identity(s.dds.security_dir, "robot_" + std::to_string(robot_id));
-    }
-    auto transport = transport::make_transport(s.dds.vendor, options);
+    const auto robot = "robot_" + std::to_string(robot_id);
+    auto transport = transport::make_transport(
+        s.dds.vendor, scenario::participant_options(s, "retreat-agent/" + robot,
+                                                    agent::agent_user_data(robot_id), robot));
     agent::AgentNode node(s, robot_id, *transport);
     while (!scenario::stop_requested() && !node.departed()) {
       node.spin_once(std::chrono::milliseconds(100));

@@ -53,13 +53,8 @@ int main(int argc, char** argv) {
   try {
     std::unique_ptr<arena::RunRecorder> recorder;
     if (!out_dir.empty()) recorder = std::make_unique<arena::RunRecorder>(out_dir, s, resume);
-    transport::ParticipantOptions options;
-    options.domain_id = s.dds.domain;
-    options.name = "retreat-arena";
-    options.user_data = "retreat:arena";
-    options.profile = s.dds.profile;
-    if (s.dds.security == "on") options.security = transport::swarm_identity(s.dds.security_dir, "arena");
-    auto transport = transport::make_transport(s.dds.vendor, options);
+    auto transport = transport::make_transport(
+        s.dds.vendor, scenario::participant_options(s, "retreat-arena", "retreat:arena", "arena"));
     arena::ArenaNode node(s, *transport, recorder.get());
     if (resume) {
       node.replay(recorder->resumable_tick(), recorder->journal());

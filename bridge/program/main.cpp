@@ -33,6 +33,7 @@
 #include "retreat/bridge/report.hpp"
 #include "retreat/bridge/run_info.hpp"
 #include "retreat/bridge/server.hpp"
+#include "retreat/scenario/program_options.hpp"
 #include "retreat/scenario/scenario.hpp"
 #include "retreat/transport/factory.hpp"
 
@@ -173,13 +174,8 @@ int main(int argc, char** argv) {
 
   std::unique_ptr<transport::Transport> transport;
   try {
-    transport::ParticipantOptions p;
-    p.domain_id = s.dds.domain;
-    p.name = "retreat-bridge";
-    p.user_data = "retreat:bridge";
-    p.profile = s.dds.profile;
-    if (s.dds.security == "on") p.security = transport::swarm_identity(s.dds.security_dir, "bridge");
-    transport = transport::make_transport(s.dds.vendor, p);
+    transport = transport::make_transport(
+        s.dds.vendor, scenario::participant_options(s, "retreat-bridge", "retreat:bridge", "bridge"));
     receiver = std::make_unique<bridge::Receiver>(*transport, s.dds.prefix, state, recorder.get());
   } catch (const std::invalid_argument& e) {
     return fail(2, e.what());

@@ -12,6 +12,7 @@
 
 #include "child_process.hpp"
 #include "progress.hpp"
+#include "retreat/scenario/program_options.hpp"
 #include "retreat/transport/factory.hpp"
 #include "run.hpp"
 #include "shared_memory.hpp"
@@ -51,13 +52,9 @@ struct AgentProcess {
 class TelemetryWatch {
  public:
   TelemetryWatch(const scenario::Scenario& s, const std::string& vendor, int domain) {
-    transport::ParticipantOptions o;
-    o.domain_id = domain;
-    o.name = "retreat-launch";
-    o.user_data = "retreat:launch";
-    o.profile = s.dds.profile;
     // Secure swarm: the launcher reads telemetry with the bridge's identity (read-only).
-    if (s.dds.security == "on") o.security = transport::swarm_identity(s.dds.security_dir, "bridge");
+    auto o = scenario::participant_options(s, "retreat-launch", "retreat:launch", "bridge");
+    o.domain_id = domain;
     transport_ = transport::make_transport(vendor, o);
     reader_.emplace(transport_->create_reader<wire::ArenaTelemetry>(
         {wire::arena_telemetry_topic(s.dds.prefix), transport::QosIntent::state()}));

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <string>
 #include <thread>
+#include <utility>
 
 namespace retreat::scenario {
 
@@ -43,6 +44,17 @@ Scenario load_scenario(const CommonOptions& options) {
 void report_error(std::string_view program, std::string_view message) {
   std::fprintf(stderr, "%.*s: %.*s\n", static_cast<int>(program.size()), program.data(),
                static_cast<int>(message.size()), message.data());
+}
+
+transport::ParticipantOptions participant_options(const Scenario& s, std::string name,
+                                                  std::string user_data, const std::string& identity) {
+  transport::ParticipantOptions options;
+  options.domain_id = s.dds.domain;
+  options.name = std::move(name);
+  options.user_data = std::move(user_data);
+  options.profile = s.dds.profile;
+  if (s.dds.security == "on") options.security = transport::swarm_identity(s.dds.security_dir, identity);
+  return options;
 }
 
 namespace {

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "retreat/scenario/scenario.hpp"
+#include "retreat/transport/transport.hpp"
 
 namespace retreat::scenario {
 
@@ -36,6 +37,12 @@ Scenario load_scenario(const CommonOptions& options);
 
 /// Prints "<program>: <message>" as one line on stderr.
 void report_error(std::string_view program, std::string_view message);
+
+/// A participant of the scenario's swarm (its `dds` section: domain, profile, and with
+/// `dds.security: on` the identity @p identity of `dds.security_dir`, e.g. `robot_3`, `arena`,
+/// `bridge`), announcing itself as @p name with @p user_data.
+transport::ParticipantOptions participant_options(const Scenario& s, std::string name,
+                                                  std::string user_data, const std::string& identity);
 
 /// Makes SIGINT and SIGTERM request a stop (see stop_requested) instead of ending the process.
 void install_stop_handlers();
