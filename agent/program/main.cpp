@@ -10,33 +10,28 @@
 #include <chrono>
 #include <cstdio>
 #include <iostream>
+#include <variant>
 
 #include "agent_node.hpp"
+#include "command_line.hpp"
 #include "retreat/scenario/program_options.hpp"
 #include "retreat/transport/factory.hpp"
 
 int main(int argc, char** argv) {
   using namespace retreat;
   constexpr const char* program = "retreat-agent";
-  CLI::App app{"retreat-agent: one robot's voluntary-retreat decision layer over DDS"};
-  scenario::CommonOptions common;
-  std::uint32_t robot_id = 0;
-  app.add_option("--robot-id", robot_id, "the robot this agent serves")->required();
-  scenario::add_common_options(app, common);
-  if (const auto code = scenario::parse_command_line(app, argc, argv, program)) return *code;
-  scenario::Scenario s;
+  std::variant<agent::AgentCommandLine, int> parsed;
   try {
-    s = scenario::load_scenario(common);
-    if (!scenario::has_robot(s, robot_id)) {
-      const auto n = s.arena.robots_inside + s.arena.robots_waiting;
-      throw scenario::ConfigError("--robot-id " + std::to_string(robot_id) +
-                                  ": the scenario has robots 0.." + std::to_string(n - 1));
-    }
-  } catch (const std::invalid_argument& e) {
+    parsed = agent::parse_command_line(argc, argv);
+  } catch (const std::exception& e) {  // a bug, not bad input: still one line, never an abort
     scenario::report_error(program, e.what());
     return 2;
   }
-  if (common.print_config) {
+  if (const auto* code = std::get_if<int>(&parsed)) return *code;
+  const auto& command_line = std::get<agent::AgentCommandLine>(parsed);
+  const auto& s = command_line.scenario;
+  const auto robot_id = command_line.robot_id;
+  if (command_line.print_config) {
     std::cout << scenario::dump(s);
     return 0;
   }

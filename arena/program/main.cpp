@@ -15,8 +15,10 @@
 #include <cstdio>
 #include <iostream>
 #include <thread>
+#include <variant>
 
 #include "arena_node.hpp"
+#include "command_line.hpp"
 #include "retreat/scenario/program_options.hpp"
 #include "retreat/transport/factory.hpp"
 
@@ -24,30 +26,21 @@ int main(int argc, char** argv) {
   using namespace retreat;
   using Clock = std::chrono::steady_clock;
   constexpr const char* program = "retreat-arena";
-  CLI::App app{"retreat-arena: the simulated world of a voluntary-retreat swarm over DDS"};
-  scenario::CommonOptions common;
-  std::string out_dir;
-  scenario::add_common_options(app, common);
-  app.add_option("--out", out_dir, "run directory to write (telemetry, summary)");
-  bool resume = false;
-  app.add_flag("--resume", resume,
-               "continue the run in --out DIR that a dead arena left, with the same agents (rebuilds "
-               "the world from the scenario and DIR/retreats.csv, then goes on from its last tick)");
-  if (const auto code = scenario::parse_command_line(app, argc, argv, program)) return *code;
-  scenario::Scenario s;
+  std::variant<arena::ArenaCommandLine, int> parsed;
   try {
-    s = scenario::load_scenario(common);
-  } catch (const std::invalid_argument& e) {
+    parsed = arena::parse_command_line(argc, argv);
+  } catch (const std::exception& e) {  // a bug, not bad input: still one line, never an abort
     scenario::report_error(program, e.what());
     return 2;
   }
-  if (common.print_config) {
+  if (const auto* code = std::get_if<int>(&parsed)) return *code;
+  const auto& command_line = std::get<arena::ArenaCommandLine>(parsed);
+  const auto& s = command_line.scenario;
+  const auto& out_dir = command_line.out_dir;
+  const bool resume = command_line.resume;
+  if (command_line.print_config) {
     std::cout << scenario::dump(s);
     return 0;
-  }
-  if (resume && out_dir.empty()) {
-    scenario::report_error(program, "--resume needs --out DIR (the run directory to continue)");
-    return 2;
   }
   scenario::install_stop_handlers();
   try {

@@ -26,13 +26,16 @@
 #include <filesystem>
 #include <iostream>
 #include <thread>
+#include <variant>
 
+#include "command_line.hpp"
 #include "retreat/bridge/address.hpp"
 #include "retreat/bridge/live_state.hpp"
 #include "retreat/bridge/receiver.hpp"
 #include "retreat/bridge/report.hpp"
 #include "retreat/bridge/run_info.hpp"
 #include "retreat/bridge/server.hpp"
+#include "retreat/core/paths.hpp"
 #include "retreat/scenario/program_options.hpp"
 #include "retreat/scenario/scenario.hpp"
 #include "retreat/transport/factory.hpp"
@@ -68,27 +71,18 @@ std::optional<fs::file_time_type> summary_time(const std::string& dir) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"retreat-bridge: live dashboard, JSON API, Prometheus metrics and reports of a "
-               "voluntary-retreat swarm"};
-  std::string scenario_path, dds, http, out_dir, report_dir;
-  int domain = -1;
-  std::vector<std::string> overrides;
-  bool print_config = false;
-  app.add_option("--scenario", scenario_path, "scenario file (YAML)");
-  app.add_option("--dds", dds, "middleware: fastdds or cyclonedds (overrides dds.vendor)");
-  app.add_option("--domain", domain, "DDS domain id 0..232 (overrides dds.domain)");
-  app.add_option("--http", http, "HOST:PORT to serve on (overrides bridge.http; port 0 picks a free one)");
-  app.add_option("--out", out_dir, "run directory: record agent statuses, serve its files, write report.html");
-  app.add_option("--set", overrides, "override a scenario value: section.key=value")->allow_extra_args(false);
-  app.add_option("--report", report_dir, "write DIR/report.html for a finished run (or seed_* runs) and exit");
-  app.add_flag("--print-config", print_config, "print the resolved scenario and exit");
+  std::variant<bridge::BridgeCommandLine, int> parsed;
   try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    if (e.get_exit_code() == 0) return app.exit(e);
+    parsed = bridge::parse_command_line(argc, argv);
+  } catch (const std::exception& e) {  // a bug, not bad input: still one line, never an abort
     return fail(2, e.what());
   }
-
+  if (const auto* code = std::get_if<int>(&parsed)) return *code;
+  const auto& command_line = std::get<bridge::BridgeCommandLine>(parsed);
+  const auto& report_dir = command_line.report_dir;
+  const auto& s = command_line.scenario;
+  const auto& address = command_line.address;
+  const auto& out_dir = command_line.out_dir;
   if (!report_dir.empty()) {
     try {
       const auto path = bridge::write_report(report_dir);
@@ -100,20 +94,7 @@ int main(int argc, char** argv) {
       return fail(2, std::string("--report: ") + e.what());
     }
   }
-  if (scenario_path.empty()) return fail(2, "--scenario is required (or --report DIR)");
-
-  scenario::Scenario s;
-  bridge::HttpAddress address;
-  try {
-    if (!dds.empty()) overrides.push_back("dds.vendor=" + dds);
-    if (domain != -1) overrides.push_back("dds.domain=" + std::to_string(domain));
-    s = scenario::load(scenario_path, overrides);
-    address = http.empty() ? bridge::parse_http_address(s.bridge.http, "bridge.http")
-                           : bridge::parse_http_address(http, "--http");
-  } catch (const std::invalid_argument& e) {
-    return fail(2, e.what());
-  }
-  if (print_config) {
+  if (command_line.print_config) {
     std::cout << scenario::dump(s);
     return 0;
   }
@@ -169,7 +150,7 @@ int main(int argc, char** argv) {
   try {
     port = server.bind(address);
   } catch (const std::exception& e) {
-    return fail(2, std::string(http.empty() ? "bridge.http " : "--http ") + e.what());
+    return fail(2, command_line.address_origin + " " + e.what());
   }
 
   std::unique_ptr<transport::Transport> transport;
@@ -215,6 +196,6 @@ int main(int argc, char** argv) {
   receiver.reset();
   transport.reset();
   if (recorder) recorder->flush();
-  if (!out_dir.empty() && fs::exists(out_dir + "/telemetry.csv")) report(out_dir);
+  if (!out_dir.empty() && retreat::exists(out_dir + "/telemetry.csv")) report(out_dir);
   return 0;
 }

@@ -67,18 +67,24 @@ function(retreat_program name)
   install(TARGETS ${name} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 endfunction()
 
-# retreat_test(<name> SOURCES ... DEPS ... [LABELS ...] [TIMEOUT s])
-# A GoogleTest executable registered with CTest (one CTest test per TEST()).
+# retreat_test(<name> SOURCES ... DEPS ... [LABELS ...] [TIMEOUT s] [FIXTURES_REQUIRED ...])
+# A GoogleTest executable registered with CTest (one CTest test per TEST()). TIMEOUT is a
+# ceiling against hangs, not a speed limit: the default is ten times what any test here needs on
+# a quiet machine, so that a loaded one (a build beside the suite) never fails by it.
 function(retreat_test name)
-  cmake_parse_arguments(ARG "" "TIMEOUT" "SOURCES;DEPS;LABELS" ${ARGN})
+  cmake_parse_arguments(ARG "" "TIMEOUT" "SOURCES;DEPS;LABELS;FIXTURES_REQUIRED" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_DEPS} GTest::gtest GTest::gtest_main)
   retreat_warnings(${name})
   if(NOT ARG_TIMEOUT)
-    set(ARG_TIMEOUT 120)
+    set(ARG_TIMEOUT 600)
   endif()
-  gtest_discover_tests(${name} PROPERTIES LABELS "${ARG_LABELS}" TIMEOUT ${ARG_TIMEOUT}
-    DISCOVERY_TIMEOUT 60)
+  set(fixtures "")
+  if(ARG_FIXTURES_REQUIRED)
+    set(fixtures FIXTURES_REQUIRED "${ARG_FIXTURES_REQUIRED}")
+  endif()
+  gtest_discover_tests(${name} PROPERTIES LABELS "${ARG_LABELS}" TIMEOUT ${ARG_TIMEOUT} ${fixtures}
+    DISCOVERY_TIMEOUT 300)
 endfunction()
 
 function(retreat_install_package)

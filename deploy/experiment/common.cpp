@@ -1,5 +1,7 @@
 #include "common.hpp"
 
+#include "retreat/core/paths.hpp"
+
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -42,7 +44,7 @@ SeedRange parse_seed_range(const std::string& text, const std::string& option) {
 
 std::string scenario_file(const Common& common, const std::string& name) {
   const std::string path = common.scenarios_dir + "/" + name;
-  if (!std::filesystem::is_regular_file(path)) {
+  if (!retreat::is_regular_file(path)) {
     throw UsageError("--scenarios '" + common.scenarios_dir + "': no " + name +
                      " there (the directory of the shipped scenarios, deploy/scenarios)");
   }

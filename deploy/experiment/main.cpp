@@ -24,6 +24,7 @@
 #include <sstream>
 
 #include "launch.hpp"
+#include "retreat/core/paths.hpp"
 #include "retreat/scenario/program_options.hpp"
 #include "retreat/scenario/scenario.hpp"
 #include "subcommands.hpp"
@@ -51,7 +52,7 @@ std::string self_dir() {
 /// The shipped scenarios: installed beside bin/ (share/retreat/scenarios), else the source tree.
 std::string default_scenarios() {
   const auto installed = fs::path(self_dir()) / ".." / "share" / "retreat" / "scenarios";
-  if (fs::is_directory(installed)) return fs::weakly_canonical(installed).string();
+  if (retreat::is_directory(installed.string())) return fs::weakly_canonical(installed).string();
   return RETREAT_SOURCE_SCENARIOS;
 }
 
@@ -76,7 +77,7 @@ void add_common(CLI::App* sub, Common& c) {
 void finish_common(Common& c, const std::string& name) {
   if (c.out_dir.empty()) c.out_dir = default_out(name);
   if (c.scenarios_dir.empty()) c.scenarios_dir = default_scenarios();
-  if (!fs::is_directory(c.scenarios_dir)) {
+  if (!retreat::is_directory(c.scenarios_dir)) {
     throw UsageError("--scenarios '" + c.scenarios_dir + "': no such directory (the shipped scenarios)");
   }
   if (c.launcher.empty()) c.launcher = self_dir() + "/retreat-launch";

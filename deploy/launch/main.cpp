@@ -16,8 +16,6 @@
 // 2 bad input (nothing was started); 128 + signal when SIGINT/SIGTERM/SIGHUP stopped it (every
 // child is stopped first, and the summary updated when the arena wrote one).
 
-#include <CLI/CLI.hpp>
-
 #include <unistd.h>
 
 #include <csignal>
@@ -25,9 +23,12 @@
 #include <ctime>
 #include <filesystem>
 #include <iostream>
+#include <variant>
 
+#include "command_line.hpp"
 #include "domain_lock.hpp"
 #include "options.hpp"
+#include "retreat/core/paths.hpp"
 #include "retreat/scenario/program_options.hpp"
 #include "run.hpp"
 #include "summary.hpp"
@@ -59,7 +60,7 @@ std::string default_out_dir() {
   char stamp[32];
   std::strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S", &local);
   std::string dir = std::string("runs/") + stamp;
-  for (int n = 2; std::filesystem::exists(dir); ++n) dir = std::string("runs/") + stamp + "-" + std::to_string(n);
+  for (int n = 2; retreat::exists(dir); ++n) dir = std::string("runs/") + stamp + "-" + std::to_string(n);
   return dir;
 }
 
@@ -90,43 +91,17 @@ void report(const nlohmann::json& j, const std::string& dir) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"retreat-launch: runs a voluntary-retreat swarm (arena, one agent process per "
-               "robot, bridge) on this machine, or in one process"};
-  scenario::CommonOptions common;  // SCENARIO --dds --domain --set --print-config
-  scenario::add_common_options(app, common, /*positional_scenario=*/true);
-  app.get_option("--dds")->description(
-      "fastdds, cyclonedds, or mixed (agents alternate vendors, the arena uses cyclonedds); "
-      "default: the scenario's dds.vendor");
-  app.get_option("--domain")->description("DDS domain id 0..232 (default: a free one in 1..99)");
-  launch::LaunchOptions o;
-  std::uint64_t seed = 0;
-  app.add_option("--out", o.out_dir, "run directory (default: runs/<timestamp>)");
-  auto* seed_opt = app.add_option("--seed", seed, "scenario seed (overrides the file's)");
-  app.add_option("--seeds", o.seeds, "run seeds A..B (inclusive) into OUT/seed_<n>/");
-  app.add_flag("--no-bridge", o.no_bridge, "do not start retreat-bridge");
-  app.add_flag("--in-process", o.in_process,
-               "arena and agents in this process over the in-memory transport (lockstep)");
-  app.add_option("--arena-profile", o.arena_profile,
-                 "DDS profile for the arena only, the hub of a star (deploy/dds/*-hub.xml); every "
-                 "other process uses dds.profile");
-  app.add_option("--bin-dir", o.bin_dir, "where retreat-arena, retreat-agent and retreat-bridge "
-                                         "are (default: next to retreat-launch)");
-  if (const auto code = scenario::parse_command_line(app, argc, argv, "retreat-launch")) return *code;
-  o.scenario_path = common.scenario_path;
-  o.dds = common.dds;
-  o.overrides = common.overrides;
-  if (app.count("--domain") > 0) o.domain = common.domain;
-  if (seed_opt->count() > 0) o.seed = seed;
-
-  // Everything is validated before anything is started or written.
-  launch::Plan plan;
+  std::variant<launch::LaunchCommandLine, int> parsed;
   try {
-    plan = launch::make_plan(o, self_dir());
-  } catch (const std::invalid_argument& e) {
-    std::fprintf(stderr, "retreat-launch: %s\n", e.what());
+    parsed = launch::parse_command_line(argc, argv, self_dir());
+  } catch (const std::exception& e) {  // a bug, not bad input: still one line, never an abort
+    scenario::report_error("retreat-launch", e.what());
     return 2;
   }
-  if (common.print_config) {
+  if (const auto* code = std::get_if<int>(&parsed)) return *code;
+  const auto& plan = std::get<launch::LaunchCommandLine>(parsed).plan;
+  const auto& o = plan.options;
+  if (std::get<launch::LaunchCommandLine>(parsed).print_config) {
     std::cout << scenario::dump(plan.scenario);
     return 0;
   }

@@ -1,5 +1,7 @@
 #include "options.hpp"
 
+#include "retreat/core/paths.hpp"
+
 #include <unistd.h>
 
 #include <algorithm>
@@ -65,7 +67,7 @@ Plan make_plan(const LaunchOptions& options, const std::string& self_dir) {
   const auto& o = options;
 
   // The scenario file first: everything else is about it.
-  if (!fs::is_regular_file(o.scenario_path)) {
+  if (!retreat::is_regular_file(o.scenario_path)) {
     throw UsageError("SCENARIO '" + o.scenario_path + "': no such file (a YAML scenario file)");
   }
 
@@ -124,7 +126,7 @@ Plan make_plan(const LaunchOptions& options, const std::string& self_dir) {
 
   if (!o.arena_profile.empty()) {
     if (o.in_process) throw UsageError("--arena-profile: not used with --in-process (no DDS)");
-    if (!fs::is_regular_file(o.arena_profile)) {
+    if (!retreat::is_regular_file(o.arena_profile)) {
       throw UsageError("--arena-profile '" + o.arena_profile + "': no such file (a DDS XML profile "
                        "for the arena, e.g. deploy/dds/fastdds-discovery-server-hub.xml)");
     }

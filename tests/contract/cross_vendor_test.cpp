@@ -31,8 +31,8 @@ void exchange(const Pair& pair, int domain) {
   ChildProcess writer({RETREAT_WIRE_PROBE, "--role", "writer", "--dds", pair.writer, "--domain",
                        std::to_string(domain), "--count", "1000"},
                       dir + "/probe_writer_" + tag + ".log");
-  const auto reader_code = reader.wait_for(90s);
-  const auto writer_code = writer.wait_for(30s);
+  const auto reader_code = reader.wait_for(retreat::testing::hang_ceiling);
+  const auto writer_code = writer.wait_for(retreat::testing::hang_ceiling);
   ASSERT_TRUE(reader_code.has_value()) << "reader did not finish";
   EXPECT_EQ(*reader_code, 0) << retreat::testing::read_file(dir + "/probe_reader_" + tag + ".log");
   ASSERT_TRUE(writer_code.has_value()) << "writer did not finish";

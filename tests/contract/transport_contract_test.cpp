@@ -63,7 +63,7 @@ std::vector<M> receive(Reader<M>& reader, Transport& transport, std::size_t coun
 
 template <class W, class R>
 void await_match(W& writer, R& reader) {
-  ASSERT_TRUE(eventually([&] { return writer.matched_count() >= 1 && reader.matched_count() >= 1; }, 20s))
+  ASSERT_TRUE(eventually([&] { return writer.matched_count() >= 1 && reader.matched_count() >= 1; }, retreat::testing::hang_ceiling))
       << "writer and reader on '" << writer.topic() << "' never matched";
 }
 
@@ -115,7 +115,7 @@ TEST(TransportContract, AReaderForRobotThreeNeverSeesRobotFoursFrames) {
     ASSERT_EQ(to4.write(testing::frame_sample(4, i)), WriteResult::ok);
     ASSERT_EQ(to3.write(testing::frame_sample(3, i)), WriteResult::ok);
   }
-  ASSERT_TRUE(to3.wait_for_acknowledgments(10s));
+  ASSERT_TRUE(to3.wait_for_acknowledgments(retreat::testing::hang_ceiling));
   const auto got = receive(*&mine, *agent, 20);
   ASSERT_EQ(got.size(), 20u);
   for (const auto& f : got) EXPECT_EQ(f.robot_id, 3u);
@@ -204,13 +204,13 @@ TEST(TransportContract, InvalidSamplesAreDroppedAndCountedNeverPassedOn) {
   for (const auto& f : {wrong_robot, nan_time, negative_time, bad_phase, good}) {
     ASSERT_EQ(writer.write(f), WriteResult::ok);
   }
-  ASSERT_TRUE(writer.wait_for_acknowledgments(10s));
+  ASSERT_TRUE(writer.wait_for_acknowledgments(retreat::testing::hang_ceiling));
   std::vector<wire::ProximityFrame> got;
   ASSERT_TRUE(eventually([&] {
     b->wait(20ms);
     for (auto& f : reader.take()) got.push_back(f);
     return reader.stats().accepted + reader.stats().dropped_total() >= 5;
-  }, 20s));
+  }, retreat::testing::hang_ceiling));
   ASSERT_EQ(got.size(), 1u);
   EXPECT_EQ(got.front(), good);
   const auto stats = reader.stats();
@@ -244,7 +244,7 @@ TEST(TransportContract, DiscoveryShowsEachParticipantsUserData) {
       if (p.guid == agent->guid() && p.user_data == "retreat:test:agent-7") return true;
     }
     return false;
-  }, 20s)) << "the arena never saw the agent's user data";
+  }, retreat::testing::hang_ceiling)) << "the arena never saw the agent's user data";
 }
 
 TEST(TransportContract, ShutdownLeavesNoThreadBehind) {
@@ -260,7 +260,7 @@ TEST(TransportContract, ShutdownLeavesNoThreadBehind) {
     ASSERT_EQ(receive(reader, *b, 1).size(), 1u);
   }
   // Middleware threads may take a moment to join after the last entity is deleted.
-  EXPECT_TRUE(eventually([&] { return thread_count() <= before; }, 5s))
+  EXPECT_TRUE(eventually([&] { return thread_count() <= before; }, retreat::testing::hang_ceiling))
       << "threads before: " << before << ", after: " << thread_count();
 }
 

@@ -70,9 +70,9 @@ int run_writer(transport::Transport& t, const Topics& topics, int count) {
       return 1;
     }
   }
-  const bool acked = frames.wait_for_acknowledgments(30s) && decisions.wait_for_acknowledgments(30s) &&
-                     statuses.wait_for_acknowledgments(30s) && telemetry.wait_for_acknowledgments(30s) &&
-                     poses.wait_for_acknowledgments(30s);
+  const bool acked = frames.wait_for_acknowledgments(retreat::testing::hang_ceiling) && decisions.wait_for_acknowledgments(retreat::testing::hang_ceiling) &&
+                     statuses.wait_for_acknowledgments(retreat::testing::hang_ceiling) && telemetry.wait_for_acknowledgments(retreat::testing::hang_ceiling) &&
+                     poses.wait_for_acknowledgments(retreat::testing::hang_ceiling);
   std::printf("writer: wrote %d samples of each kind, acknowledged: %s\n", count, acked ? "yes" : "no");
   return acked ? 0 : 1;
 }

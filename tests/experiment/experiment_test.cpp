@@ -297,7 +297,7 @@ INSTANTIATE_TEST_SUITE_P(
 TEST(Experiment, RefusesAnOutDirectoryThatHoldsSomething) {
   const auto dir = fresh_dir("out-not-empty");
   std::ofstream(dir + "/keep.txt") << "a previous run\n";
-  const auto [code, output] = run(dir, {"encounters", "--quick", "--out", dir}, 20s);
+  const auto [code, output] = run(dir, {"encounters", "--quick", "--out", dir}, retreat::testing::hang_ceiling);
   EXPECT_EQ(code, 2) << output;
   EXPECT_EQ(lines(output), 1u) << output;
   EXPECT_NE(output.find(dir), std::string::npos) << output;

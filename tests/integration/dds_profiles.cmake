@@ -8,7 +8,7 @@ if(RETREAT_WITH_FASTDDS OR RETREAT_WITH_CYCLONEDDS)
 
   # Domain ids 110..159 only, one per test (see the test file). Under 60 s in total.
   retreat_test(dds_profiles_test SOURCES ${CMAKE_CURRENT_LIST_DIR}/dds_profiles_test.cpp
-    DEPS retreat::transports retreat::testing LABELS integration TIMEOUT 120)
+    DEPS retreat::transports retreat::testing LABELS integration)
   target_compile_definitions(dds_profiles_test PRIVATE
     RETREAT_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
     RETREAT_SWARM_NODE="$<TARGET_FILE:retreat_dds_swarm_node>")

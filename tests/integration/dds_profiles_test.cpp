@@ -111,7 +111,7 @@ SwarmRun run_swarm(const std::string& hub_vendor, const std::string& hub_profile
                                  "--robot", std::to_string(i), "--max-seconds", "90"},
         dir + "/agent_" + std::to_string(i) + ".log", env);
   }
-  retreat::testing::eventually([&] { return fs::exists(result_path) || !hub.running(); }, 50s);
+  retreat::testing::eventually([&] { return fs::exists(result_path) || !hub.running(); }, retreat::testing::hang_ceiling);
   SwarmRun run;
   run.hub_result = read_file(result_path);
   // Agents print what they discovered when they are stopped. Signal all, then reap each.

@@ -67,13 +67,13 @@ TEST(Faults, ABridgeKilledTwiceMidRunIsRestartedAndTheRunDirectoryLosesNothing) 
                  processes["bridge"]["pid"].get<pid_t>() != previous &&
                  lines_of(status_csv).size() > rows_so_far + 12;
         },
-        30s))
+        retreat::testing::hang_ceiling))
         << "no new bridge recording; " << log_of(dir);
     previous = processes["bridge"]["pid"].get<pid_t>();
     before_kill.push_back(lines_of(status_csv));
     ASSERT_EQ(::kill(previous, SIGKILL), 0);
   }
-  const auto code = l.process.wait_for(120s);
+  const auto code = l.process.wait_for(retreat::testing::hang_ceiling);
   ASSERT_TRUE(code.has_value()) << "the launcher did not finish; " << log_of(dir);
   ASSERT_EQ(*code, 0) << log_of(dir);
 
@@ -127,7 +127,7 @@ TEST(Faults, AKilledRealTimeArenaIsResumedAndTheSameAgentsGoOn) {
         before = read_json(l.out + "/processes.json");
         return !before.empty() && lines_of(telemetry_csv).size() > 300;  // past tick 300 (9 s)
       },
-      60s))
+      retreat::testing::hang_ceiling))
       << log_of(dir);
   const auto agents = agent_pids(before);
   ASSERT_EQ(agents.size(), 12u);
@@ -141,9 +141,9 @@ TEST(Faults, AKilledRealTimeArenaIsResumedAndTheSameAgentsGoOn) {
         after = read_json(l.out + "/processes.json");
         return !after.empty() && after["arena"]["pid"].get<pid_t>() != first_arena;
       },
-      20s))
+      retreat::testing::hang_ceiling))
       << "the launcher did not restart the arena; " << log_of(dir);
-  const auto code = l.process.wait_for(90s);
+  const auto code = l.process.wait_for(retreat::testing::hang_ceiling);
   ASSERT_TRUE(code.has_value()) << "the launcher did not finish; " << log_of(dir);
   ASSERT_EQ(*code, 0) << log_of(dir);
 
@@ -207,15 +207,15 @@ TEST(Faults, ALockstepArenaResumedByHandGivesTheUninterruptedTrajectory) {
     testing::ChildProcess arena(arena_args, dir + "/arena.log");
     // Killed once some retreats are journalled, so that the replay has decisions to apply.
     ASSERT_TRUE(
-        testing::eventually([&] { return lines_of(out + "/retreats.csv").size() > 3; }, 60s))
+        testing::eventually([&] { return lines_of(out + "/retreats.csv").size() > 3; }, retreat::testing::hang_ceiling))
         << testing::read_file(dir + "/arena.log");
     ASSERT_EQ(::kill(arena.pid(), SIGKILL), 0);
-    arena.wait_for(10s);
+    arena.wait_for(retreat::testing::hang_ceiling);
   }
   const auto killed_at = first_field(lines_of(out + "/telemetry.csv").back());
   arena_args.push_back("--resume");
   testing::ChildProcess resumed(arena_args, dir + "/arena-resumed.log");
-  const auto code = resumed.wait_for(90s);
+  const auto code = resumed.wait_for(retreat::testing::hang_ceiling);
   for (auto& a : agents) a.stop();
   ASSERT_TRUE(code.has_value()) << testing::read_file(dir + "/arena-resumed.log");
   ASSERT_EQ(*code, 0) << testing::read_file(dir + "/arena-resumed.log");
@@ -260,7 +260,7 @@ int run_with_private_dev_shm(const std::string& dir, const std::string& script) 
   const std::string full =
       "set -u\nmount -t tmpfs -o size=16m tmpfs /dev/shm || exit 97\n" + script;
   testing::ChildProcess p({"/usr/bin/unshare", "-m", "/bin/sh", "-c", full}, dir + "/launch.log");
-  const auto code = p.wait_for(120s);
+  const auto code = p.wait_for(retreat::testing::hang_ceiling);
   if (!code) p.stop();
   return code.value_or(-1);
 }

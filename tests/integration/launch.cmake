@@ -5,7 +5,7 @@ if(RETREAT_WITH_FASTDDS OR RETREAT_WITH_CYCLONEDDS)
     SOURCES ${CMAKE_CURRENT_LIST_DIR}/launch_runs_test.cpp ${CMAKE_CURRENT_LIST_DIR}/launch_faults_test.cpp
       ${CMAKE_CURRENT_LIST_DIR}/launch_input_test.cpp ${CMAKE_CURRENT_LIST_DIR}/launch_isolation_test.cpp
     DEPS retreat::transports retreat::testing nlohmann_json::nlohmann_json
-    LABELS integration TIMEOUT 180)
+    LABELS integration)
   target_compile_definitions(launch_test PRIVATE
     RETREAT_LAUNCH_BIN="$<TARGET_FILE:retreat-launch>"
     RETREAT_SCENARIOS="${PROJECT_SOURCE_DIR}/deploy/scenarios"

@@ -23,7 +23,7 @@ json wait_for_processes(const std::string& out) {
   testing::eventually([&] {
     j = read_json(out + "/processes.json");
     return !j.empty();
-  }, 30s);
+  }, retreat::testing::hang_ceiling);
   return j;
 }
 
@@ -38,7 +38,7 @@ bool wait_for_simulated_time(const std::string& vendor, int domain, double t) {
       if (m.time >= t) return true;
     }
     return false;
-  }, 60s);
+  }, retreat::testing::hang_ceiling);
 }
 
 pid_t pid_of_agent(const json& processes, int robot) {
@@ -63,7 +63,7 @@ TEST(LaunchFaults, TwoAgentsKilledMidRunAreCountedLostAndTheRunCompletes) {
     ASSERT_GT(pid, 0);
     ASSERT_EQ(::kill(pid, SIGKILL), 0);
   }
-  const auto code = l.process.wait_for(90s);
+  const auto code = l.process.wait_for(retreat::testing::hang_ceiling);
   ASSERT_TRUE(code.has_value()) << "the launcher did not finish; " << log_of(dir);
   EXPECT_EQ(*code, 0) << log_of(dir);
   const auto j = read_json(l.out + "/summary.json");
@@ -82,7 +82,7 @@ TEST(LaunchFaults, AKilledArenaStopsEveryChildAndTheLauncherFails) {
   ASSERT_FALSE(processes.empty()) << log_of(dir);
   ASSERT_TRUE(wait_for_simulated_time(vendor, domain_kill_arena, 5.0)) << log_of(dir);
   ASSERT_EQ(::kill(processes["arena"]["pid"].get<pid_t>(), SIGKILL), 0);
-  const auto code = l.process.wait_for(30s);
+  const auto code = l.process.wait_for(retreat::testing::hang_ceiling);
   ASSERT_TRUE(code.has_value()) << "the launcher did not finish; " << log_of(dir);
   EXPECT_EQ(*code, 1) << log_of(dir);
   EXPECT_TRUE(alive(child_pids(processes)).empty());
@@ -97,7 +97,7 @@ TEST(LaunchFaults, SigtermStopsEveryChildAndKeepsTheSummary) {
   ASSERT_FALSE(processes.empty()) << log_of(dir);
   ASSERT_TRUE(wait_for_simulated_time(vendor, domain_stop_launcher, 5.0)) << log_of(dir);
   l.process.signal(SIGTERM);
-  const auto code = l.process.wait_for(30s);
+  const auto code = l.process.wait_for(retreat::testing::hang_ceiling);
   ASSERT_TRUE(code.has_value()) << "the launcher did not finish; " << log_of(dir);
   EXPECT_EQ(*code, 128 + SIGTERM) << log_of(dir);
   EXPECT_TRUE(alive(child_pids(processes)).empty());

@@ -212,7 +212,7 @@ TEST_P(LaunchIsolation, EveryAgentIsMatchedOnlyWithItsOwnRobotsTopicsInARunningS
     observer.drain();
     seen = look(observer);
     return complete(seen);
-  }, 60s);
+  }, retreat::testing::hang_ceiling);
   ASSERT_TRUE(discovered) << "the observer did not see the whole swarm; " << log_of(dir);
   // Let late matches (there must be none) show up, then look again while the swarm runs.
   for (int i = 0; i < 20; ++i) {
@@ -241,14 +241,14 @@ TEST_P(LaunchIsolation, EveryAgentIsMatchedOnlyWithItsOwnRobotsTopicsInARunningS
       caught = violations(look(observer));
       return has("retreat:agent:robot=3 reads retreat/robot_5/proximity") &&
              has("retreat:agent:robot=3 writes retreat/robot_7/decision");
-    }, 20s);
+    }, retreat::testing::hang_ceiling);
     EXPECT_TRUE(has("retreat:agent:robot=3 reads retreat/robot_5/proximity")) << lines(caught);
     EXPECT_TRUE(has("retreat:agent:robot=3 writes retreat/robot_7/decision")) << lines(caught);
   }
 
   const auto processes = read_json(l.out + "/processes.json");
   l.process.signal(SIGTERM);
-  const auto code = l.process.wait_for(30s);
+  const auto code = l.process.wait_for(retreat::testing::hang_ceiling);
   ASSERT_TRUE(code.has_value());
   EXPECT_EQ(*code, 128 + SIGTERM) << log_of(dir);
   EXPECT_TRUE(alive(child_pids(processes)).empty());

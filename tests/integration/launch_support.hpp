@@ -65,7 +65,7 @@ inline Launch start_launch(const std::string& dir, std::vector<std::string> args
 
 /// Runs the launcher to its end; returns its exit code (-1 if it did not end in `timeout`).
 inline int run_launch(const std::string& dir, const std::vector<std::string>& args,
-                      std::chrono::milliseconds timeout = 90s, bool bridge = false) {
+                      std::chrono::milliseconds timeout = testing::hang_ceiling, bool bridge = false) {
   auto l = start_launch(dir, args, bridge);
   const auto code = l.process.wait_for(timeout);
   if (!code) {

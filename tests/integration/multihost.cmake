@@ -7,7 +7,7 @@ if(RETREAT_WITH_FASTDDS OR RETREAT_WITH_CYCLONEDDS)
   retreat_test(multihost_test
     SOURCES ${CMAKE_CURRENT_LIST_DIR}/multihost_test.cpp
     DEPS retreat::transports retreat::testing nlohmann_json::nlohmann_json
-    LABELS integration TIMEOUT 120)
+    LABELS integration)
   target_compile_definitions(multihost_test PRIVATE
     RETREAT_LAUNCH_BIN="$<TARGET_FILE:retreat-launch>"
     RETREAT_ARENA_BIN="$<TARGET_FILE:retreat-arena>"

@@ -166,7 +166,7 @@ class Multihost : public ::testing::Test {
     std::vector<std::string> argv = {ip_};
     argv.insert(argv.end(), args.begin(), args.end());
     ChildProcess p(argv, dir_ + "/ip.log");
-    const auto code = p.wait_for(10s);
+    const auto code = p.wait_for(retreat::testing::hang_ceiling);
     if (!code) {
       p.stop(500ms);
       return -1;
@@ -222,7 +222,7 @@ class Multihost : public ::testing::Test {
     }
     argv.push_back(profiles + "/fastdds-multihost.xml");
     ChildProcess sed(argv, out);
-    EXPECT_EQ(sed.wait_for(10s).value_or(-1), 0) << testing::read_file(out);
+    EXPECT_EQ(sed.wait_for(retreat::testing::hang_ceiling).value_or(-1), 0) << testing::read_file(out);
     // No placeholder left in the XML itself (the header comment still names them).
     const auto file = testing::read_file(out);
     const auto body = file.substr(std::min(file.find("<dds"), file.size()));
@@ -238,7 +238,7 @@ class Multihost : public ::testing::Test {
     std::vector<std::string> argv = {RETREAT_LAUNCH_BIN, scenario, "--in-process", "--no-bridge", "--out", out};
     argv.insert(argv.end(), run.begin(), run.end());
     ChildProcess p(argv, dir_ + "/in-process.log");
-    const auto code = p.wait_for(60s);
+    const auto code = p.wait_for(retreat::testing::hang_ceiling);
     if (!code) p.stop();
     EXPECT_EQ(code.value_or(-1), 0) << testing::read_file(dir_ + "/in-process.log");
     return read_json(out + "/summary.json");
@@ -255,7 +255,7 @@ class Multihost : public ::testing::Test {
     const std::string log = dir_ + "/rx-" + host.address + ".txt";
     ChildProcess p({ip_, "netns", "exec", host.ns, "cat", "/sys/class/net/" + ns_interface + "/statistics/rx_packets"},
                    log);
-    if (p.wait_for(10s).value_or(-1) != 0) return -1;
+    if (p.wait_for(retreat::testing::hang_ceiling).value_or(-1) != 0) return -1;
     try {
       return std::stoll(testing::read_file(log));
     } catch (const std::exception&) {
@@ -286,10 +286,10 @@ class Multihost : public ::testing::Test {
       args.insert(args.begin(), {RETREAT_AGENT_BIN, "--robot-id", std::to_string(robot)});
       start_in(h, args, dir_ + "/agent-" + vendor + "-" + std::to_string(robot) + ".log", env_of(h));
     }
-    const auto code = arena.wait_for(50s);
+    const auto code = arena.wait_for(retreat::testing::hang_ceiling);
     RunResult r;
     r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
-    EXPECT_TRUE(code.has_value()) << "the arena did not finish within 50 s; "
+    EXPECT_TRUE(code.has_value()) << "the arena did not finish; "
                                   << testing::read_file(dir_ + "/arena-" + vendor + ".log");
     EXPECT_EQ(code.value_or(-1), 0) << testing::read_file(dir_ + "/arena-" + vendor + ".log");
     r.summary = read_json(out + "/summary.json");
@@ -315,7 +315,6 @@ class Multihost : public ::testing::Test {
     EXPECT_EQ(r.summary["trajectory_sha256"].get<std::string>().size(), 64u);
     EXPECT_EQ(r.summary["trajectory_sha256"], reference["trajectory_sha256"]);
     EXPECT_EQ(r.summary["deliveries"], reference["deliveries"]);
-    EXPECT_LT(r.wall_seconds, 50.0);
     // The decisions really crossed the emulated network: the arena's only link to its agents
     // received at least one packet per tick (12 decisions per tick, batched or not).
     EXPECT_GE(r.arena_rx_packets, ticks);
@@ -334,7 +333,7 @@ class Multihost : public ::testing::Test {
                          << " counter drop\n  }\n}\n";
     const std::string log = dir_ + "/nft-" + h.address + ".log";
     ChildProcess p({ip_, "netns", "exec", h.ns, nft_, "-f", rules}, log);
-    if (p.wait_for(10s).value_or(-1) == 0) return true;
+    if (p.wait_for(retreat::testing::hang_ceiling).value_or(-1) == 0) return true;
     why = "`nft -f` failed in " + h.ns + ": " + testing::read_file(log);
     return false;
   }
@@ -343,7 +342,7 @@ class Multihost : public ::testing::Test {
   long long dropped(const Host& h) {
     const std::string log = dir_ + "/nft-list-" + h.address + ".log";
     ChildProcess p({ip_, "netns", "exec", h.ns, nft_, "list", "table", "ip", "retreat_loss"}, log);
-    if (p.wait_for(10s).value_or(-1) != 0) return -1;
+    if (p.wait_for(retreat::testing::hang_ceiling).value_or(-1) != 0) return -1;
     const auto text = testing::read_file(log);
     const auto at = text.find("counter packets ");
     if (at == std::string::npos) return -1;
@@ -355,7 +354,7 @@ class Multihost : public ::testing::Test {
     const std::string log = dir_ + "/tc-" + h.address + ".log";
     ChildProcess p({ip_, "netns", "exec", h.ns, tc_, "qdisc", "add", "dev", ns_interface, "root", "netem",
                     "delay", "20ms", "5ms"}, log);
-    if (p.wait_for(10s).value_or(-1) == 0) return true;
+    if (p.wait_for(retreat::testing::hang_ceiling).value_or(-1) == 0) return true;
     why = testing::read_file(log);
     while (!why.empty() && std::isspace(static_cast<unsigned char>(why.back()))) why.pop_back();
     return false;

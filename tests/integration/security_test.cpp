@@ -17,12 +17,26 @@ namespace {
 
 const std::string pki_script = RETREAT_PKI_SCRIPT;
 
-/// A fresh PKI for robots 0..11, the arena and the bridge under `<dir>/pki`.
+/// A fresh PKI for robots 0..11, the arena and the bridge under `<dir>/pki` (the script's own
+/// tests: everything else shares one PKI, below).
 std::string make_pki(const std::string& dir) {
   const auto pki = dir + "/pki";
   const auto [code, output] =
       testing::run_to_exit({"/bin/bash", pki_script, "--out", pki, "--robots", "0-11"}, dir + "/pki.log");
   EXPECT_EQ(code, 0) << output;
+  return pki;
+}
+
+/// The PKI every secure swarm and permission test uses: made once per test run by the CTest
+/// fixture `security_pki` (security.cmake; ctest adds it to any selection of these tests), since
+/// making 14 identities costs seconds of openssl, many more on a loaded machine.
+std::string shared_pki() {
+  const std::string pki = RETREAT_SHARED_PKI;
+  if (!std::filesystem::is_regular_file(pki + "/robot_11/permissions.p7s")) {
+    ADD_FAILURE() << "no shared PKI in " << pki << ": run these tests with ctest (fixture "
+                  << "security_pki), or first: bash " << pki_script << " --out " << pki
+                  << " --robots 0-11";
+  }
   return pki;
 }
 
@@ -40,7 +54,7 @@ std::vector<std::string> secure(std::vector<std::string> args, const std::string
 /// Runs a swarm to its end and returns its summary.json (empty when the launcher failed).
 json run_swarm(const std::string& dir, const std::vector<std::string>& args) {
   std::filesystem::create_directories(dir);
-  const auto code = run_launch(dir, args, 60s);
+  const auto code = run_launch(dir, args);
   EXPECT_EQ(code, 0) << log_of(dir);
   return read_json(dir + "/run/summary.json");
 }
@@ -117,7 +131,7 @@ TEST_P(SecureSwarm, CompletesWithThePlainRunsTrajectoryHash) {
   const auto [vendor, domain] = GetParam();
   if (!built(vendor)) GTEST_SKIP() << vendor << " not built";
   const auto dir = fresh_dir(std::string("security-swarm-") + vendor);
-  const auto pki = make_pki(dir);
+  const auto pki = shared_pki();
   const auto plain = run_swarm(dir + "/plain", run_args(vendor, domain));
   const auto safe = run_swarm(dir + "/secure", secure(run_args(vendor, domain), pki));
   ASSERT_FALSE(plain.empty());
@@ -167,9 +181,9 @@ struct Intruder {
 json run_with_intruder(const std::string& dir, const std::vector<std::string>& args, Intruder& intruder) {
   std::filesystem::create_directories(dir);
   auto l = start_launch(dir, args);
-  const auto deadline = std::chrono::steady_clock::now() + 60s;
+  const auto deadline = std::chrono::steady_clock::now() + testing::hang_ceiling;
   while (l.process.running() && std::chrono::steady_clock::now() < deadline) intruder.spin_once();
-  const auto code = l.process.wait_for(1s);
+  const auto code = l.process.wait_for(1s);  // it has ended, or the ceiling was reached (a hang)
   EXPECT_EQ(code, std::optional<int>(0)) << log_of(dir);
   if (!code) l.process.stop();
   return read_json(l.out + "/summary.json");
@@ -181,7 +195,7 @@ TEST_P(SecureSwarmIntruder, WithoutAnIdentitySeesNoRobotAndCannotInjectADecision
   const auto [vendor, domain] = GetParam();
   if (!built(vendor)) GTEST_SKIP() << vendor << " not built";
   const auto dir = fresh_dir(std::string("security-intruder-") + vendor);
-  const auto pki = make_pki(dir);
+  const auto pki = shared_pki();
   // The reference trajectory: the same run in one process (the same hash as over any vendor).
   const auto plain = run_swarm(dir + "/plain", {robotarium, "--in-process", "--seed", "1", "--set", "run.duration=120"});
   ASSERT_FALSE(plain.empty());
@@ -222,8 +236,7 @@ INSTANTIATE_TEST_SUITE_P(Vendor, SecureSwarmIntruder,
 class SecurePermissions : public ::testing::TestWithParam<VendorCase> {
  protected:
   std::unique_ptr<transport::Transport> participant(const std::string& identity) {
-    const auto dir = fresh_dir(std::string("security-permissions-") + GetParam().vendor + "-" + identity);
-    const auto pki = make_pki(dir);
+    const auto pki = shared_pki();
     return transport::make_transport(GetParam().vendor,
                                      {GetParam().domain, "permissions-test", "", "",
                                       transport::swarm_identity(pki, identity)});
@@ -277,8 +290,7 @@ INSTANTIATE_TEST_SUITE_P(Vendor, SecurePermissions,
 TEST(SecureLaunch, RefusesMixedVendorsWithOneLine) {
   if (!built("fastdds") || !built("cyclonedds")) GTEST_SKIP() << "needs both vendors";
   const auto dir = fresh_dir("security-mixed");
-  const auto pki = make_pki(dir);
-  const auto code = run_launch(dir, secure({robotarium, "--dds", "mixed", "--domain", "71"}, pki), 20s);
+  const auto code = run_launch(dir, secure({robotarium, "--dds", "mixed", "--domain", "71"}, shared_pki()));
   EXPECT_EQ(code, 2);
   const auto log = log_of(dir);
   EXPECT_EQ(std::count(log.begin(), log.end(), '\n'), 1) << log;

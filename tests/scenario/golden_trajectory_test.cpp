@@ -28,7 +28,7 @@ nlohmann::json run_in_process(const std::string& tag, const std::vector<std::str
                                    "--in-process", "--no-bridge", "--out", out};
   argv.insert(argv.end(), extra.begin(), extra.end());
   retreat::testing::ChildProcess launch(argv, out + ".log");
-  const auto code = launch.wait_for(120s);
+  const auto code = launch.wait_for(retreat::testing::hang_ceiling);
   EXPECT_EQ(code.value_or(-1), 0) << retreat::testing::read_file(out + ".log");
   std::ifstream in(out + "/summary.json");
   return in.good() ? nlohmann::json::parse(in) : nlohmann::json{};

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "retreat/agent/controller_registry.hpp"
+#include "retreat/core/rng.hpp"
 #include "retreat/model/estimation.hpp"
 
 namespace retreat::agent {
@@ -31,7 +32,7 @@ RetreatAgent::RetreatAgent(std::uint32_t robot_id, model::ModelParams model, Age
       model_(validated(model)),
       agent_(validated(std::move(agent))),
       controller_(controller ? std::move(controller) : make_controller(agent_.controller)),
-      generator_(seed),
+      coin_key_(seed),
       window_(agent_.L),
       tolerance_(step_tolerance * agent_.dt) {}
 
@@ -112,11 +113,10 @@ bool RetreatAgent::decide(double time, double time_inside) {
   last_lambda_hat_ = lambda_hat;
   last_epsilon_ = raw / agent_.dt;
 
-  // One draw per decision step, whatever p is, so the stream does not depend on p's value;
-  // p >= 1 retreats even if a library's U[0, 1) ever returned 1 (LWG 2524).
-  std::uniform_real_distribution<double> coin(0.0, 1.0);
-  const double u = coin(generator_);
-  if (p >= 1.0 || u < p) {
+  // Step k's own coin (k = next_step_ − 1, the step being taken): a function of the key and k
+  // alone, drawn whatever p is. counter_uniform never returns 1, so p >= 1 always retreats.
+  const double u = retreat::counter_uniform(coin_key_, next_step_ - 1);
+  if (u < p) {
     decided_ = true;
     stopped_ = true;
     decision_time_ = time;

@@ -8,7 +8,7 @@
 
 #include "retreat/physics/domain.hpp"
 #include "retreat/physics/influx.hpp"
-#include "retreat/physics/rng.hpp"
+#include "retreat/core/rng.hpp"
 #include "retreat/physics/world.hpp"
 
 namespace retreat::physics::detail {

@@ -27,6 +27,7 @@
 #include "fastdds_convert.hpp"
 #include "fastdds_type_support.hpp"
 #include "retreat_msgsPubSubTypes.h"
+#include "retreat/core/paths.hpp"
 
 namespace retreat::transport {
 namespace {
@@ -246,7 +247,7 @@ class FastParticipant : public std::enable_shared_from_this<FastParticipant> {
     if (options.profile.empty()) {
       qos = loopback_qos();
     } else {
-      if (!std::filesystem::is_regular_file(options.profile)) {
+      if (!retreat::is_regular_file(options.profile)) {
         throw std::invalid_argument("dds.profile = '" + options.profile +
                                     "': no such file (a Fast DDS XML profile file)");
       }
@@ -324,7 +325,9 @@ class FastParticipant : public std::enable_shared_from_this<FastParticipant> {
     static std::mutex mutex;
     static std::string loaded;
     std::lock_guard lock(mutex);
-    const auto canonical = std::filesystem::weakly_canonical(path).string();
+    std::error_code error;  // a path the OS refuses is compared as written
+    auto canonical = std::filesystem::weakly_canonical(path, error).string();
+    if (error) canonical = path;
     if (loaded.empty()) {
       if (factory->load_XML_profiles_file(path) != ReturnCode_t::RETCODE_OK) return false;
       loaded = canonical;
@@ -484,3 +487,4 @@ std::unique_ptr<Transport> make_fastdds_transport(const ParticipantOptions& opti
 }
 
 }  // namespace retreat::transport
+

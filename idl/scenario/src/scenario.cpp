@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "fields.hpp"
+#include "retreat/core/paths.hpp"
 #include "retreat/model/format_number.hpp"
 #include "retreat/wire/topics.hpp"
 
@@ -115,11 +116,11 @@ void validate_dds(const DdsParams& d) {
         "must be an integer in 0..232");
   check(wire::is_valid_prefix(d.prefix), "dds.prefix", "'" + d.prefix + "'",
         "must be 1..64 characters of letters, digits and _, with single / between parts");
-  check(d.profile.empty() || std::filesystem::is_regular_file(d.profile), "dds.profile",
+  check(d.profile.empty() || retreat::is_regular_file(d.profile), "dds.profile",
         "'" + d.profile + "'", "no such file (a vendor XML profile; empty for built-in loopback)");
   check(d.security == "on" || d.security == "off", "dds.security", "'" + d.security + "'",
         "must be on or off");
-  check(d.security == "off" || std::filesystem::is_regular_file(d.security_dir + "/ca.pem"),
+  check(d.security == "off" || retreat::is_regular_file(d.security_dir + "/ca.pem"),
         "dds.security_dir", "'" + d.security_dir + "'",
         "must be a directory made by deploy/security/make-swarm-pki.sh (with ca.pem) when "
         "dds.security is on");
@@ -209,7 +210,7 @@ Scenario parse(const std::string& yaml_text, const std::vector<std::string>& ove
 
 Scenario load(const std::string& path, const std::vector<std::string>& overrides) {
   std::ifstream in(path);
-  if (!in || std::filesystem::is_directory(path)) {
+  if (!in || retreat::is_directory(path)) {
     throw ConfigError("--scenario '" + path + "': cannot read the file (a YAML scenario)");
   }
   std::stringstream text;

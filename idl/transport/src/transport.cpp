@@ -1,5 +1,7 @@
 #include "retreat/transport/transport.hpp"
 
+#include "retreat/core/paths.hpp"
+
 #include <algorithm>
 #include <filesystem>
 #include <stdexcept>
@@ -38,7 +40,7 @@ void validate(const ParticipantOptions& options) {
   if (!s.enabled()) return;
   for (const auto* file : {&s.identity_ca, &s.identity_certificate, &s.private_key,
                            &s.permissions_ca, &s.governance, &s.permissions}) {
-    if (!std::filesystem::is_regular_file(*file)) {
+    if (!retreat::is_regular_file(*file)) {
       throw std::invalid_argument("DDS Security file '" + *file +
                                   "': no such file (make the swarm's PKI with "
                                   "deploy/security/make-swarm-pki.sh)");
@@ -50,7 +52,7 @@ SecurityOptions swarm_identity(const std::string& pki_dir, const std::string& id
   const std::filesystem::path dir(pki_dir);
   const auto file = [&](const std::filesystem::path& relative) {
     const auto path = dir / relative;
-    if (!std::filesystem::is_regular_file(path)) {
+    if (!retreat::is_regular_file(path)) {
       throw std::invalid_argument("dds.security_dir = '" + pki_dir + "': no " + relative.string() +
                                   " (identity '" + identity +
                                   "'; make it with deploy/security/make-swarm-pki.sh)");

@@ -4,9 +4,9 @@
 
 #include <cmath>
 #include <cstdint>
-#include <random>
 #include <stdexcept>
 
+#include "retreat/core/rng.hpp"
 #include "retreat/model/encounter.hpp"
 #include "retreat/model/estimation.hpp"
 
@@ -91,16 +91,16 @@ TEST(Estimator, MeanOfTheEstimateOverPoissonOnsetsIsTheTrueDensity) {
   const int windows = 20000;
   const double sigma_of_mean = std::sqrt(lambda / (c * window_length) / windows);
 
-  std::mt19937_64 generator(20190520);
-  std::exponential_distribution<double> gap(c * lambda);
+  retreat::Rng generator(20190520);
+  const auto gap = [&] { return generator.exponential(c * lambda); };
   OnsetWindow window(window_length);
-  double next_onset = gap(generator);
+  double next_onset = gap();
   double sum = 0.0;
   for (int j = 1; j <= windows; ++j) {
     const double t = j * window_length;
     while (next_onset <= t) {
       window.add(next_onset);
-      next_onset += gap(generator);
+      next_onset += gap();
     }
     sum += model::mle_density(window.count_at(t), p.delta, p.v, window_length);
   }

@@ -3,10 +3,10 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
-#include <random>
 
 #include "agent_test_support.hpp"
 #include "retreat/agent/retreat_agent.hpp"
+#include "retreat/core/rng.hpp"
 #include "retreat/core/seed.hpp"
 #include "retreat/model/optimum.hpp"
 
@@ -171,8 +171,7 @@ TEST(RetreatAgent, TakesOneStepPerElapsedDtWhateverTheFrameTimes) {
   // steps = floor((t − t_entry)/dt) (up to the 1e-9·dt tolerance).
   const AgentParams params = short_window_params();
   RetreatAgent agent(0, {}, params, std::make_unique<FixedProbability>(0.0), 1);
-  std::mt19937_64 generator(99);
-  std::uniform_real_distribution<double> gap(0.0, 5.0 * params.dt);
+  retreat::Rng generator(99);
   double time = 1.234;
   for (std::int64_t tick = 0; tick < 5000; ++tick) {
     Observation frame = frame_at(tick, params.dt);
@@ -180,7 +179,7 @@ TEST(RetreatAgent, TakesOneStepPerElapsedDtWhateverTheFrameTimes) {
     agent.on_frame(frame);
     const double expected = std::floor((time - 1.234) / params.dt + 1e-9);
     ASSERT_EQ(static_cast<double>(agent.status().steps), expected) << "time " << time;
-    time += tick % 7 == 0 ? 0.0 : gap(generator);
+    time += tick % 7 == 0 ? 0.0 : generator.uniform(0.0, 5.0 * params.dt);
   }
 }
 

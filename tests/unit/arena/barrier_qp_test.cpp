@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "retreat/physics/barrier_certificate.hpp"
-#include "retreat/physics/rng.hpp"
+#include "retreat/core/rng.hpp"
 
 namespace retreat::physics {
 namespace {

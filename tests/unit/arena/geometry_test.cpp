@@ -8,7 +8,7 @@
 
 #include "retreat/physics/domain.hpp"
 #include "retreat/physics/neighbour_grid.hpp"
-#include "retreat/physics/rng.hpp"
+#include "retreat/core/rng.hpp"
 #include "retreat/physics/unicycle.hpp"
 
 namespace retreat::physics {

@@ -5,7 +5,6 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
-#include <random>
 
 #include "retreat/agent/agent_params.hpp"
 #include "retreat/agent/controller.hpp"
@@ -57,7 +56,9 @@ struct AgentSnapshot {
 /// At a step with k·dt >= L (within 1e-9·dt: the first coin is at t_k − t_entry = L, when the
 /// window [t_k − L, t_k] first lies wholly inside D; the paper's loop reads "t > L"):
 /// y = onsets in [t_k − L, t_k], λ̂ = y / (4δ(4/π)vL), p = clamp(controller p, 0, 1), and the
-/// agent retreats if a draw u ~ U[0, 1) from its own generator is < p (always if p >= 1).
+/// agent retreats if its coin for step k, u_k = counter_uniform(seed, k) ~ U[0, 1), is < p
+/// (always if p >= 1). The coin of step k depends on the seed and k alone, not on how many
+/// coins were drawn before, so a look-ahead never changes a later decision.
 /// After deciding, or once a frame's phase is `retreating` or `departed`, it takes no more
 /// steps and draws no more numbers; it never re-enters.
 ///
@@ -69,7 +70,7 @@ class RetreatAgent {
   /// @param model the model's parameters (validated).
   /// @param agent the agent's parameters (validated).
   /// @param controller the controller; nullptr means make_controller(agent.controller).
-  /// @param seed seed of the agent's own generator; pass
+  /// @param seed key of the agent's coins; pass
   ///        `retreat::seed_for(scenario_seed, robot_id, Stream::agent_decision)`.
   /// @throws std::invalid_argument if a parameter is out of range.
   explicit RetreatAgent(std::uint32_t robot_id = 0, model::ModelParams model = {},
@@ -102,7 +103,7 @@ class RetreatAgent {
   model::ModelParams model_;
   AgentParams agent_;
   std::unique_ptr<Controller> controller_;
-  std::mt19937_64 generator_;
+  std::uint64_t coin_key_;  // counter_uniform(coin_key_, k) is step k's coin
   OnsetWindow window_;
   double tolerance_;  // 1e-9·dt [s]
 

@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "retreat/physics/domain.hpp"
-#include "retreat/physics/rng.hpp"
+#include "retreat/core/rng.hpp"
 #include "retreat/physics/types.hpp"
 
 namespace retreat::physics {

@@ -2,7 +2,7 @@
 /// @file
 /// The domain D: an axis-aligned ellipse or rectangle centred on the origin.
 
-#include "retreat/physics/rng.hpp"
+#include "retreat/core/rng.hpp"
 #include "retreat/physics/types.hpp"
 
 namespace retreat::physics {

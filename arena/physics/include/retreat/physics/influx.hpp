@@ -5,7 +5,7 @@
 #include <cstdint>
 
 #include "retreat/physics/params.hpp"
-#include "retreat/physics/rng.hpp"
+#include "retreat/core/rng.hpp"
 
 namespace retreat::physics {
 

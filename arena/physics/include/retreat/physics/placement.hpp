@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "retreat/physics/domain.hpp"
-#include "retreat/physics/rng.hpp"
+#include "retreat/core/rng.hpp"
 #include "retreat/physics/unicycle.hpp"
 
 namespace retreat::physics {

@@ -34,7 +34,7 @@
 /// tumble. Without it a stalled pair waits for a tumble (mean 1/tumble_rate), which makes the
 /// contact duration τ_r a property of the tumble rate, and with tumble_rate = 0 the swarm jams.
 
-#include "retreat/physics/rng.hpp"
+#include "retreat/core/rng.hpp"
 #include "retreat/physics/types.hpp"
 
 namespace retreat::physics {

@@ -16,6 +16,9 @@
 
 namespace retreat::scenario {
 
+/// Prints "<program>: <message>" as one line on stderr.
+void report_error(std::string_view program, std::string_view message);
+
 struct CommonOptions {
   std::string scenario_path;
   std::string dds;   ///< empty: the scenario's dds.vendor
@@ -32,11 +35,23 @@ void add_common_options(CLI::App& app, CommonOptions& options, bool positional_s
 /// --help, 2 after a usage error (reported as one line "<program>: <message>").
 std::optional<int> parse_command_line(CLI::App& app, int argc, char** argv, std::string_view program);
 
+/// Runs @p validate, the start-up checks of a program's command line; bad input
+/// (std::invalid_argument, which ConfigError is) is reported as one line "<program>: <message>"
+/// and gives exit code 2. Anything else thrown is a bug and goes on to the caller (each program's
+/// `main` still reports it as one line; tests/fuzz/command_line_fuzzer.cpp fails on it).
+template <class Validate>
+auto guarded(std::string_view program, Validate&& validate) -> decltype(validate()) {
+  using Result = decltype(validate());
+  try {
+    return validate();
+  } catch (const std::invalid_argument& e) {
+    report_error(program, e.what());
+    return Result(2);
+  }
+}
+
 /// Loads the scenario with --set overrides, then --dds and --domain. Throws ConfigError.
 Scenario load_scenario(const CommonOptions& options);
-
-/// Prints "<program>: <message>" as one line on stderr.
-void report_error(std::string_view program, std::string_view message);
 
 /// A participant of the scenario's swarm (its `dds` section: domain, profile, and with
 /// `dds.security: on` the identity @p identity of `dds.security_dir`, e.g. `robot_3`, `arena`,

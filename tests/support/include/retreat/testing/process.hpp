@@ -13,6 +13,12 @@
 
 namespace retreat::testing {
 
+/// The ceiling of every wait for something that must happen (a process to exit, a match, a
+/// sample, a file): long enough that only a hang reaches it, even with the machine loaded by a
+/// build beside the suite. Success returns as soon as the event happens, so a generous ceiling
+/// costs nothing; a test never passes or fails by how fast the machine is.
+inline constexpr std::chrono::seconds hang_ceiling{300};
+
 class ChildProcess {
  public:
   /// Starts `argv[0]` with the given arguments; stdout and stderr go to `log_path` when given.
@@ -45,7 +51,7 @@ std::string read_file(const std::string& path);
 /// exit code (-1 on timeout) and the whole output.
 std::pair<int, std::string> run_to_exit(const std::vector<std::string>& argv,
                                         const std::string& log_path,
-                                        std::chrono::milliseconds timeout = std::chrono::milliseconds(10000));
+                                        std::chrono::milliseconds timeout = hang_ceiling);
 
 /// Repeats `predicate` every few milliseconds until it is true or `timeout` passes.
 template <class Predicate>

@@ -1,16 +1,21 @@
 #pragma once
 /// @file
-/// The generator every random draw of the physics comes from.
+/// The generators every seeded draw of retreat comes from: the physics, the influx and the
+/// agents' coins.
 ///
 /// Why not std::mt19937_64 and the std distributions: a world holds one generator per robot and
 /// must scale to 10^5 robots (mt19937_64 keeps 2.5 KiB of state, xoshiro256** 32 bytes), and
 /// the std distributions are implementation-defined, so the same seed would give different runs
-/// with libstdc++ and libc++. Every sampler below is written out, hence bit-for-bit portable.
+/// with libstdc++ and libc++. Every sampler below is written out, hence bit-for-bit portable
+/// (tests/unit/core/rng_test.cpp pins their values; the test command checks that a Clang and
+/// libc++ build gives the same golden trajectories as the GCC and libstdc++ one).
 
 #include <array>
 #include <cstdint>
 
-namespace retreat::physics {
+#include "retreat/core/seed.hpp"
+
+namespace retreat {
 
 /// xoshiro256** (Blackman, Vigna 2018), seeded by expanding one 64-bit seed with SplitMix64.
 /// Meets the UniformRandomBitGenerator requirements. Seeds come from
@@ -60,4 +65,13 @@ class Rng {
   std::array<std::uint64_t, 4> s_{};
 };
 
-}  // namespace retreat::physics
+/// The @p counter-th value of the SplitMix64 sequence that starts at @p key, uniform on [0, 1)
+/// with 53 random bits: a counter-based draw, so that draw k does not depend on how many draws
+/// came before it (an agent's coin for step k is the same whether or not it looked ahead).
+/// SplitMix64 (Steele, Lea, Flood 2014) outputs mix(key + (i + 1)·γ) for i = 0, 1, ...
+constexpr double counter_uniform(std::uint64_t key, std::uint64_t counter) noexcept {
+  // splitmix64() adds γ itself: its argument is the state before the step.
+  return static_cast<double>(splitmix64(key + counter * 0x9E3779B97F4A7C15ULL) >> 11) * 0x1.0p-53;
+}
+
+}  // namespace retreat

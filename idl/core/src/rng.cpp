@@ -1,10 +1,10 @@
-#include "retreat/physics/rng.hpp"
+#include "retreat/core/rng.hpp"
 
 #include <cmath>
 
 #include "retreat/core/seed.hpp"
 
-namespace retreat::physics {
+namespace retreat {
 
 Rng::Rng(std::uint64_t seed) noexcept {
   for (std::size_t k = 0; k < s_.size(); ++k) {
@@ -48,4 +48,4 @@ std::uint64_t Rng::poisson(double mean) noexcept {
   return total;
 }
 
-}  // namespace retreat::physics
+}  // namespace retreat

@@ -1,0 +1,29 @@
+#include "command_line.hpp"
+
+#include <string>
+
+#include "retreat/scenario/program_options.hpp"
+
+namespace retreat::agent {
+
+std::variant<AgentCommandLine, int> parse_command_line(int argc, char** argv) {
+  constexpr const char* program = "retreat-agent";
+  CLI::App app{"retreat-agent: one robot's voluntary-retreat decision layer over DDS"};
+  scenario::CommonOptions common;
+  AgentCommandLine out;
+  app.add_option("--robot-id", out.robot_id, "the robot this agent serves")->required();
+  scenario::add_common_options(app, common);
+  if (const auto code = scenario::parse_command_line(app, argc, argv, program)) return *code;
+  return scenario::guarded(program, [&]() -> std::variant<AgentCommandLine, int> {
+    out.scenario = scenario::load_scenario(common);
+    if (!scenario::has_robot(out.scenario, out.robot_id)) {
+      const auto n = out.scenario.arena.robots_inside + out.scenario.arena.robots_waiting;
+      throw scenario::ConfigError("--robot-id " + std::to_string(out.robot_id) +
+                                  ": the scenario has robots 0.." + std::to_string(n - 1));
+    }
+    out.print_config = common.print_config;
+    return out;
+  });
+}
+
+}  // namespace retreat::agent

@@ -1,0 +1,32 @@
+#pragma once
+/// @file
+/// File-system questions that never throw. A path given on a command line, in a scenario or in
+/// a profile may be anything (5,000 characters, a loop of links, a directory without
+/// permission): the throwing std::filesystem overloads then end the program, these answer false
+/// (found by tests/fuzz: a long `dds.profile` made every program abort).
+
+#include <filesystem>
+#include <string>
+#include <system_error>
+
+namespace retreat {
+
+/// Whether @p path names a regular file (false for any path the OS refuses).
+inline bool is_regular_file(const std::string& path) noexcept {
+  std::error_code ignored;
+  return std::filesystem::is_regular_file(path, ignored);
+}
+
+/// Whether @p path names a directory (false for any path the OS refuses).
+inline bool is_directory(const std::string& path) noexcept {
+  std::error_code ignored;
+  return std::filesystem::is_directory(path, ignored);
+}
+
+/// Whether anything exists at @p path (false for any path the OS refuses).
+inline bool exists(const std::string& path) noexcept {
+  std::error_code ignored;
+  return std::filesystem::exists(path, ignored);
+}
+
+}  // namespace retreat
