@@ -20,13 +20,8 @@
 int main(int argc, char** argv) {
   using namespace retreat;
   constexpr const char* program = "retreat-agent";
-  std::variant<agent::AgentCommandLine, int> parsed;
-  try {
-    parsed = agent::parse_command_line(argc, argv);
-  } catch (const std::exception& e) {  // a bug, not bad input: still one line, never an abort
-    scenario::report_error(program, e.what());
-    return 2;
-  }
+  const auto parsed =
+      scenario::parse_or_report(program, [&] { return agent::parse_command_line(argc, argv); });
   if (const auto* code = std::get_if<int>(&parsed)) return *code;
   const auto& command_line = std::get<agent::AgentCommandLine>(parsed);
   const auto& s = command_line.scenario;
@@ -48,14 +43,16 @@ int main(int argc, char** argv) {
     }
     node.flush(std::chrono::seconds(1));
     const auto& c = node.counters();
-    std::fprintf(stderr,
-                 "retreat-agent robot %u: %s; frames %llu, dropped %llu, decisions %llu, retreated %s\n",
-                 robot_id, node.departed() ? "departed" : "stopped",
-                 static_cast<unsigned long long>(c.frames_received),
-                 static_cast<unsigned long long>(c.frames_dropped),
-                 static_cast<unsigned long long>(c.decisions_sent),
-                 node.agent().retreating() ? "yes" : "no");
-    scenario::limit_teardown(program, scenario::teardown_limit, 0);  // nothing left to send or record
+    std::fprintf(
+        stderr,
+        "retreat-agent robot %u: %s; frames %llu, dropped %llu, decisions %llu, retreated %s\n",
+        robot_id, node.departed() ? "departed" : "stopped",
+        static_cast<unsigned long long>(c.frames_received),
+        static_cast<unsigned long long>(c.frames_dropped),
+        static_cast<unsigned long long>(c.decisions_sent),
+        node.agent().retreating() ? "yes" : "no");
+    scenario::limit_teardown(program, scenario::teardown_limit,
+                             0);  // nothing left to send or record
     return 0;
   } catch (const std::invalid_argument& e) {
     scenario::report_error(program, e.what());

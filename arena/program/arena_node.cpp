@@ -27,6 +27,23 @@ wire::Phase to_wire(physics::Phase p) { return static_cast<wire::Phase>(static_c
 
 }  // namespace
 
+wire::ArenaTelemetry telemetry_message(const physics::Telemetry& t, std::uint32_t lost_agents,
+                                       double ticks_per_second) {
+  wire::ArenaTelemetry m;
+  m.arena_id = 0;
+  m.tick = t.tick;
+  m.time = t.time;
+  m.inside = t.inside;
+  m.waiting = t.waiting;
+  m.retreating = t.retreating;
+  m.departed = t.departed;
+  m.lost_agents = lost_agents;
+  m.true_density = t.true_density;
+  m.deliveries = t.deliveries;
+  m.ticks_per_second = ticks_per_second;
+  return m;
+}
+
 ArenaNode::ArenaNode(const scenario::Scenario& scenario, transport::Transport& transport,
                      RunRecorder* recorder)
     : scenario_(scenario),
@@ -110,19 +127,7 @@ void ArenaNode::publish_observations() {
   if (slot == last_published_slot_) return;
   last_published_slot_ = slot;
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
-  wire::ArenaTelemetry m;
-  m.arena_id = 0;
-  m.tick = t.tick;
-  m.time = t.time;
-  m.inside = t.inside;
-  m.waiting = t.waiting;
-  m.retreating = t.retreating;
-  m.departed = t.departed;
-  m.lost_agents = agents_lost();
-  m.true_density = t.true_density;
-  m.deliveries = t.deliveries;
-  m.ticks_per_second = wall > 0 ? static_cast<double>(t.tick) / wall : 0.0;
-  telemetry_.write(m);
+  telemetry_.write(telemetry_message(t, agents_lost(), wall > 0 ? static_cast<double>(t.tick) / wall : 0.0));
   const auto p = world_->poses();
   wire::Poses poses;
   poses.arena_id = 0;

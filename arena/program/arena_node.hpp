@@ -19,6 +19,11 @@
 
 namespace retreat::arena {
 
+/// The ground-truth telemetry message of the world's state @p t (arena id 0): the one
+/// translation of physics::Telemetry to the wire, for the arena and the launcher's progress line.
+wire::ArenaTelemetry telemetry_message(const physics::Telemetry& t, std::uint32_t lost_agents,
+                                       double ticks_per_second);
+
 /// Counters of decisions the arena did not act on.
 struct DecisionCounters {
   std::uint64_t applied = 0;        ///< retreat decisions passed to the world

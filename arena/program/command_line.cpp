@@ -11,9 +11,10 @@ std::variant<ArenaCommandLine, int> parse_command_line(int argc, char** argv) {
   ArenaCommandLine out;
   scenario::add_common_options(app, common);
   app.add_option("--out", out.out_dir, "run directory to write (telemetry, summary)");
-  app.add_flag("--resume", out.resume,
-               "continue the run in --out DIR that a dead arena left, with the same agents (rebuilds "
-               "the world from the scenario and DIR/retreats.csv, then goes on from its last tick)");
+  app.add_flag(
+      "--resume", out.resume,
+      "continue the run in --out DIR that a dead arena left, with the same agents (rebuilds "
+      "the world from the scenario and DIR/retreats.csv, then goes on from its last tick)");
   if (const auto code = scenario::parse_command_line(app, argc, argv, program)) return *code;
   return scenario::guarded(program, [&]() -> std::variant<ArenaCommandLine, int> {
     out.scenario = scenario::load_scenario(common);

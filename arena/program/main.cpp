@@ -26,13 +26,8 @@ int main(int argc, char** argv) {
   using namespace retreat;
   using Clock = std::chrono::steady_clock;
   constexpr const char* program = "retreat-arena";
-  std::variant<arena::ArenaCommandLine, int> parsed;
-  try {
-    parsed = arena::parse_command_line(argc, argv);
-  } catch (const std::exception& e) {  // a bug, not bad input: still one line, never an abort
-    scenario::report_error(program, e.what());
-    return 2;
-  }
+  const auto parsed =
+      scenario::parse_or_report(program, [&] { return arena::parse_command_line(argc, argv); });
   if (const auto* code = std::get_if<int>(&parsed)) return *code;
   const auto& command_line = std::get<arena::ArenaCommandLine>(parsed);
   const auto& s = command_line.scenario;
@@ -57,10 +52,12 @@ int main(int argc, char** argv) {
     const auto keep_going = [] { return !scenario::stop_requested(); };
     const bool lockstep = s.run.mode == "lockstep";
 
-    const auto matched = node.wait_for_agents(std::chrono::duration_cast<std::chrono::nanoseconds>(
-                                                  std::chrono::duration<double>(s.run.startup_timeout)),
-                                              keep_going);
-    std::fprintf(stderr, "retreat-arena: %u agents matched, running %s\n", matched, s.run.mode.c_str());
+    const auto matched =
+        node.wait_for_agents(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                 std::chrono::duration<double>(s.run.startup_timeout)),
+                             keep_going);
+    std::fprintf(stderr, "retreat-arena: %u agents matched, running %s\n", matched,
+                 s.run.mode.c_str());
     const auto start = Clock::now();
     const auto period = std::chrono::duration<double>(s.agent.dt / s.run.speed);
     auto next = start;

@@ -12,7 +12,7 @@
 namespace retreat::bridge {
 
 struct BridgeCommandLine {
-  std::string report_dir;       ///< --report DIR: write DIR/report.html and exit (nothing else is read)
+  std::string report_dir;  ///< --report DIR: write DIR/report.html and exit (nothing else is read)
   scenario::Scenario scenario;  ///< resolved and validated (without --report)
   HttpAddress address;          ///< --http, else bridge.http
   std::string address_origin;   ///< which of the two gave `address`, for messages

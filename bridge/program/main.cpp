@@ -15,15 +15,15 @@
 // Exit codes: 0 stopped by SIGINT/SIGTERM (or --report done); 2 bad input at start-up, including
 // a malformed --http and a port that cannot be bound; 1 middleware or file failure.
 
-#include <CLI/CLI.hpp>
-
 #include <pthread.h>
 #include <signal.h>
 
+#include <CLI/CLI.hpp>
 #include <atomic>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <thread>
 #include <variant>
@@ -68,87 +68,95 @@ std::optional<fs::file_time_type> summary_time(const std::string& dir) {
   return t;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  std::variant<bridge::BridgeCommandLine, int> parsed;
+/// --report DIR: writes DIR/report.html and returns the exit code.
+int write_report_only(const std::string& dir) {
   try {
-    parsed = bridge::parse_command_line(argc, argv);
-  } catch (const std::exception& e) {  // a bug, not bad input: still one line, never an abort
-    return fail(2, e.what());
-  }
-  if (const auto* code = std::get_if<int>(&parsed)) return *code;
-  const auto& command_line = std::get<bridge::BridgeCommandLine>(parsed);
-  const auto& report_dir = command_line.report_dir;
-  const auto& s = command_line.scenario;
-  const auto& address = command_line.address;
-  const auto& out_dir = command_line.out_dir;
-  if (!report_dir.empty()) {
-    try {
-      const auto path = bridge::write_report(report_dir);
-      std::printf("retreat-bridge: wrote %s\n", path.c_str());
-      return 0;
-    } catch (const std::invalid_argument& e) {
-      return fail(2, std::string("--report ") + report_dir + ": " + e.what());
-    } catch (const std::exception& e) {
-      return fail(2, std::string("--report: ") + e.what());
-    }
-  }
-  if (command_line.print_config) {
-    std::cout << scenario::dump(s);
+    const auto path = bridge::write_report(dir);
+    std::printf("retreat-bridge: wrote %s\n", path.c_str());
     return 0;
+  } catch (const std::invalid_argument& e) {
+    return fail(2, std::string("--report ") + dir + ": " + e.what());
+  } catch (const std::exception& e) {
+    return fail(2, std::string("--report: ") + e.what());
   }
+}
 
-  // Every thread (DDS's, httplib's, ours) inherits this mask; main takes the signals with
-  // sigwait. SIGPIPE: a client that went away must not end the program.
+/// Every thread (DDS's, httplib's, ours) inherits this mask; main takes the signals with
+/// sigwait. SIGPIPE: a client that went away must not end the program.
+sigset_t block_stop_signals() {
   sigset_t stop_signals;
   sigemptyset(&stop_signals);
   sigaddset(&stop_signals, SIGINT);
   sigaddset(&stop_signals, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
   std::signal(SIGPIPE, SIG_IGN);
+  return stop_signals;
+}
 
-  std::unique_ptr<bridge::StatusRecorder> recorder;
-  if (!out_dir.empty()) {
-    std::error_code ec;
-    fs::create_directories(out_dir, ec);
-    if (ec) return fail(2, "--out '" + out_dir + "': cannot create the directory: " + ec.message());
-    try {
-      recorder = std::make_unique<bridge::StatusRecorder>(out_dir);
-    } catch (const std::exception& e) {
-      return fail(2, e.what());
-    }
-  }
-
-  bridge::LiveState state{telemetry::Aggregator(bridge::run_info(s))};
-  bridge::ServerOptions options;
-  options.run_dir = out_dir;
-  std::unique_ptr<bridge::Receiver> receiver;
-  bridge::Server* serving_server = nullptr;
-  options.extra_metrics = [&receiver, &serving_server](telemetry::PrometheusWriter& out) {
-    if (serving_server != nullptr) {
-      const auto r = serving_server->responses();
-      out.family("retreat_bridge_http_responses_total", "counter", "HTTP responses by status class.");
+/// The bridge's own metrics beside the swarm's: HTTP responses, event streams, matched writers,
+/// invalid samples. Reads the server and the receiver through pointers set once they exist.
+std::function<void(telemetry::PrometheusWriter&)> bridge_metrics(
+    const bridge::Server* const& server, const std::unique_ptr<bridge::Receiver>& receiver) {
+  return [&server, &receiver](telemetry::PrometheusWriter& out) {
+    if (server != nullptr) {
+      const auto r = server->responses();
+      out.family("retreat_bridge_http_responses_total", "counter",
+                 "HTTP responses by status class.");
       for (std::size_t c = 1; c < r.size(); ++c) {
         out.sample(static_cast<double>(r[c]), {{"code", std::to_string(c) + "xx"}});
       }
       out.family("retreat_bridge_event_streams", "gauge", "Open server-sent event streams.");
-      out.sample(static_cast<double>(serving_server->event_streams()));
+      out.sample(static_cast<double>(server->event_streams()));
     }
     if (!receiver) return;
     const auto m = receiver->matched();
-    out.family("retreat_bridge_writers_matched", "gauge", "Remote writers matched with the bridge's readers.");
+    out.family("retreat_bridge_writers_matched", "gauge",
+               "Remote writers matched with the bridge's readers.");
     out.sample(static_cast<double>(m[0]), {{"topic", "arena_telemetry"}});
     out.sample(static_cast<double>(m[1]), {{"topic", "poses"}});
     out.sample(static_cast<double>(m[2]), {{"topic", "agent_status"}});
-    out.family("retreat_bridge_samples_invalid_total", "counter", "Samples the readers dropped as invalid.");
+    out.family("retreat_bridge_samples_invalid_total", "counter",
+               "Samples the readers dropped as invalid.");
     out.sample(static_cast<double>(receiver->dropped()));
   };
+}
+
+/// --out DIR: the recorder of agent statuses in DIR (made if missing); none without --out.
+/// @throws std::runtime_error naming DIR when it cannot be made or written.
+std::unique_ptr<bridge::StatusRecorder> open_recorder(const std::string& out_dir) {
+  if (out_dir.empty()) return nullptr;
+  std::error_code ec;
+  fs::create_directories(out_dir, ec);
+  if (ec)
+    throw std::runtime_error("--out '" + out_dir +
+                             "': cannot create the directory: " + ec.message());
+  return std::make_unique<bridge::StatusRecorder>(out_dir);
+}
+
+/// Serves the dashboard and records until SIGINT or SIGTERM; returns the exit code.
+int serve(const bridge::BridgeCommandLine& command_line) {
+  const auto& s = command_line.scenario;
+  const auto& out_dir = command_line.out_dir;
+  sigset_t stop_signals = block_stop_signals();
+
+  std::unique_ptr<bridge::StatusRecorder> recorder;
+  try {
+    recorder = open_recorder(out_dir);
+  } catch (const std::exception& e) {
+    return fail(2, e.what());
+  }
+
+  bridge::LiveState state{telemetry::Aggregator(bridge::run_info(s))};
+  std::unique_ptr<bridge::Receiver> receiver;
+  const bridge::Server* serving_server = nullptr;
+  bridge::ServerOptions options;
+  options.run_dir = out_dir;
+  options.extra_metrics = bridge_metrics(serving_server, receiver);
   bridge::Server server(state, options);
   serving_server = &server;
   int port = 0;
   try {
-    port = server.bind(address);
+    port = server.bind(command_line.address);
   } catch (const std::exception& e) {
     return fail(2, command_line.address_origin + " " + e.what());
   }
@@ -156,7 +164,8 @@ int main(int argc, char** argv) {
   std::unique_ptr<transport::Transport> transport;
   try {
     transport = transport::make_transport(
-        s.dds.vendor, scenario::participant_options(s, "retreat-bridge", "retreat:bridge", "bridge"));
+        s.dds.vendor,
+        scenario::participant_options(s, "retreat-bridge", "retreat:bridge", "bridge"));
     receiver = std::make_unique<bridge::Receiver>(*transport, s.dds.prefix, state, recorder.get());
   } catch (const std::invalid_argument& e) {
     return fail(2, e.what());
@@ -166,8 +175,7 @@ int main(int argc, char** argv) {
 
   std::atomic<bool> stop{false};
   // The end of the run: the arena writes summary.json into the run directory last.
-  const auto summary_at_start = out_dir.empty() ? std::nullopt : summary_time(out_dir);
-  auto reported_summary = summary_at_start;
+  auto reported_summary = out_dir.empty() ? std::nullopt : summary_time(out_dir);
   std::thread receiving([&] {
     receiver->run(stop, [&] {
       if (out_dir.empty()) return;
@@ -180,7 +188,7 @@ int main(int argc, char** argv) {
   });
   std::thread serving([&] { server.serve(); });
 
-  std::printf("retreat-bridge: serving http://%s:%d/\n", address.host.c_str(), port);
+  std::printf("retreat-bridge: serving http://%s:%d/\n", command_line.address.host.c_str(), port);
   std::fflush(stdout);
   std::fprintf(stderr, "retreat-bridge: %s on %s domain %d, prefix '%s'%s%s\n", s.name.c_str(),
                s.dds.vendor.c_str(), s.dds.domain, s.dds.prefix.c_str(),
@@ -198,4 +206,19 @@ int main(int argc, char** argv) {
   if (recorder) recorder->flush();
   if (!out_dir.empty() && retreat::exists(out_dir + "/telemetry.csv")) report(out_dir);
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const auto parsed = scenario::parse_or_report(
+      "retreat-bridge", [&] { return bridge::parse_command_line(argc, argv); });
+  if (const auto* code = std::get_if<int>(&parsed)) return *code;
+  const auto& command_line = std::get<bridge::BridgeCommandLine>(parsed);
+  if (!command_line.report_dir.empty()) return write_report_only(command_line.report_dir);
+  if (command_line.print_config) {
+    std::cout << scenario::dump(command_line.scenario);
+    return 0;
+  }
+  return serve(command_line);
 }

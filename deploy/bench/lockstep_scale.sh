@@ -29,34 +29,14 @@
 # single-host star profiles pin it to 127.0.0.1 / lo).
 set -euo pipefail
 
-here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
-root=$(cd "$here/../.." && pwd)
-build=${RETREAT_BUILD_DIR:-$root/build}
-launcher="$build/deploy/launch/retreat-launch"
 agents_list="12 50 100 200"
 vendors="fastdds cyclonedds"
 duration=60
 domain=150
-out=""
-
-usage() { sed -n '2,/^set -euo/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//'; }
-while [ $# -gt 0 ]; do
-  case "$1" in
-    --agents) agents_list=$2; shift 2 ;;
-    --vendors) vendors=$2; shift 2 ;;
-    --duration) duration=$2; shift 2 ;;
-    --domain) domain=$2; shift 2 ;;
-    --out) out=$2; shift 2 ;;
-    --launcher) launcher=$2; shift 2 ;;
-    -h|--help) usage; exit 0 ;;
-    *) echo "lockstep_scale.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
-  esac
-done
-[ -x "$launcher" ] || { echo "lockstep_scale.sh: no retreat-launch at '$launcher' (--launcher PATH)" >&2; exit 2; }
-out=${out:-$(mktemp -d /tmp/retreat-lockstep-scale.XXXXXX)}
-mkdir -p "$out"
-results="$out/results.txt"
-: > "$results"
+bench_option() { if [ "$1" = --agents ]; then agents_list=$2; taken=2; fi; }
+source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
+bench_parse "$@"
+bench_prepare retreat-lockstep-scale
 
 # Largest VmRSS and Pss (kB) of each PID in $@ so far, kept in the files $out/.rss.<pid>.
 sample_memory() {

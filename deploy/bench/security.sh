@@ -19,35 +19,15 @@
 # DIR/results.txt); the run directories stay in DIR. DDS stays on loopback (built-in settings).
 set -euo pipefail
 
-here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
-root=$(cd "$here/../.." && pwd)
-build=${RETREAT_BUILD_DIR:-$root/build}
-launcher="$build/deploy/launch/retreat-launch"
 vendors="fastdds cyclonedds"
 duration=300
 repeat=3
 domain=151
-out=""
-
-usage() { sed -n '2,/^set -euo/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//'; }
-while [ $# -gt 0 ]; do
-  case "$1" in
-    --vendors) vendors=$2; shift 2 ;;
-    --duration) duration=$2; shift 2 ;;
-    --repeat) repeat=$2; shift 2 ;;
-    --domain) domain=$2; shift 2 ;;
-    --out) out=$2; shift 2 ;;
-    --launcher) launcher=$2; shift 2 ;;
-    -h|--help) usage; exit 0 ;;
-    *) echo "security.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
-  esac
-done
-[ -x "$launcher" ] || { echo "security.sh: no retreat-launch at '$launcher' (--launcher PATH)" >&2; exit 2; }
+bench_option() { if [ "$1" = --repeat ]; then repeat=$2; taken=2; fi; }
+source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
+bench_parse "$@"
 [[ $repeat =~ ^[1-9][0-9]*$ ]] || { echo "security.sh: --repeat '$repeat': must be a whole number >= 1" >&2; exit 2; }
-out=${out:-$(mktemp -d /tmp/retreat-security-bench.XXXXXX)}
-mkdir -p "$out"
-results="$out/results.txt"
-: > "$results"
+bench_prepare retreat-security-bench
 say() { echo "$*" | tee -a "$results"; }
 
 "$root/deploy/security/make-swarm-pki.sh" --out "$out/pki" --robots 0-11 >/dev/null

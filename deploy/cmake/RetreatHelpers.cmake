@@ -48,6 +48,8 @@ function(retreat_library name)
         message(FATAL_ERROR "pure library retreat::${name} may not depend on ${dep}")
       endif()
     endforeach()
+    set_property(GLOBAL APPEND PROPERTY RETREAT_PURE_LIBRARIES retreat::${name})
+    set_property(GLOBAL PROPERTY RETREAT_DEPS_OF_${name} ${ARG_PUBLIC_DEPS} ${ARG_PRIVATE_DEPS})
   endif()
   install(TARGETS ${target} EXPORT retreatTargets
     LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
@@ -56,6 +58,22 @@ function(retreat_library name)
   if(EXISTS ${include_dir})
     install(DIRECTORY ${include_dir}/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
   endif()
+endfunction()
+
+# retreat_check_pure_libraries(): every retreat:: library a PURE library depends on is PURE
+# itself, so that purity holds transitively (checked once every library is declared, since a
+# dependency may be declared after its user).
+function(retreat_check_pure_libraries)
+  get_property(pure GLOBAL PROPERTY RETREAT_PURE_LIBRARIES)
+  foreach(library IN LISTS pure)
+    string(REPLACE "retreat::" "" name ${library})
+    get_property(deps GLOBAL PROPERTY RETREAT_DEPS_OF_${name})
+    foreach(dep IN LISTS deps)
+      if(dep MATCHES "^retreat::" AND NOT dep IN_LIST pure)
+        message(FATAL_ERROR "pure library ${library} depends on ${dep}, which is not pure")
+      endif()
+    endforeach()
+  endforeach()
 endfunction()
 
 # retreat_program(<name> SOURCES ... DEPS ...): an installed executable named <name>.

@@ -11,13 +11,6 @@
 namespace retreat::experiment {
 namespace {
 
-bool parse_u64(const std::string& text, std::uint64_t& value) {
-  const char* first = text.data();
-  const char* last = first + text.size();
-  const auto [end, error] = std::from_chars(first, last, value);
-  return error == std::errc() && end == last && first != last;
-}
-
 /// NaN and infinities (which nlohmann writes as null anyway) made explicit, recursively.
 nlohmann::json sanitised(const nlohmann::json& j) {
   if (j.is_number_float()) return finite_or_null(j.get<double>());
@@ -30,17 +23,6 @@ nlohmann::json sanitised(const nlohmann::json& j) {
 }
 
 }  // namespace
-
-SeedRange parse_seed_range(const std::string& text, const std::string& option) {
-  const auto colon = text.find(':');
-  SeedRange r;
-  if (colon == std::string::npos || !parse_u64(text.substr(0, colon), r.first) ||
-      !parse_u64(text.substr(colon + 1), r.last) || r.first > r.last) {
-    throw UsageError(option + " '" + text + "': must be A:B with whole numbers 0 <= A <= B");
-  }
-  if (r.last - r.first >= 100000) throw UsageError(option + " '" + text + "': at most 100000 seeds");
-  return r;
-}
 
 std::string scenario_file(const Common& common, const std::string& name) {
   const std::string path = common.scenarios_dir + "/" + name;

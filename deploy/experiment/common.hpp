@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "retreat/scenario/program_options.hpp"
+
 namespace retreat::experiment {
 
 /// Bad input: one line naming the value and what is allowed (exit code 2).
@@ -25,17 +27,8 @@ class RunFailure : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// Seeds A..B inclusive.
-struct SeedRange {
-  std::uint64_t first = 1;
-  std::uint64_t last = 1;
-  std::size_t count() const { return static_cast<std::size_t>(last - first + 1); }
-  std::string text() const { return std::to_string(first) + ":" + std::to_string(last); }
-};
-
-/// Parses "A:B" (whole numbers, 0 <= A <= B, at most 100000 seeds); throws UsageError naming
-/// `option`.
-SeedRange parse_seed_range(const std::string& text, const std::string& option = "--seeds");
+using scenario::parse_seed_range;
+using scenario::SeedRange;
 
 /// The options every subcommand takes.
 struct Common {

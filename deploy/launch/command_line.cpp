@@ -4,10 +4,12 @@
 
 namespace retreat::launch {
 
-std::variant<LaunchCommandLine, int> parse_command_line(int argc, char** argv, const std::string& self_dir) {
+std::variant<LaunchCommandLine, int> parse_command_line(int argc, char** argv,
+                                                        const std::string& self_dir) {
   constexpr const char* program = "retreat-launch";
-  CLI::App app{"retreat-launch: runs a voluntary-retreat swarm (arena, one agent process per "
-               "robot, bridge) on this machine, or in one process"};
+  CLI::App app{
+      "retreat-launch: runs a voluntary-retreat swarm (arena, one agent process per "
+      "robot, bridge) on this machine, or in one process"};
   scenario::CommonOptions common;  // SCENARIO --dds --domain --set --print-config
   scenario::add_common_options(app, common, /*positional_scenario=*/true);
   app.get_option("--dds")->description(
@@ -25,8 +27,9 @@ std::variant<LaunchCommandLine, int> parse_command_line(int argc, char** argv, c
   app.add_option("--arena-profile", o.arena_profile,
                  "DDS profile for the arena only, the hub of a star (deploy/dds/*-hub.xml); every "
                  "other process uses dds.profile");
-  app.add_option("--bin-dir", o.bin_dir, "where retreat-arena, retreat-agent and retreat-bridge "
-                                         "are (default: next to retreat-launch)");
+  app.add_option("--bin-dir", o.bin_dir,
+                 "where retreat-arena, retreat-agent and retreat-bridge "
+                 "are (default: next to retreat-launch)");
   if (const auto code = scenario::parse_command_line(app, argc, argv, program)) return *code;
   o.scenario_path = common.scenario_path;
   o.dds = common.dds;

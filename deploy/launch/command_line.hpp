@@ -19,6 +19,7 @@ struct LaunchCommandLine {
 /// launcher's executable (where the other programs are looked for). Returns the plan, or the
 /// exit code to end with now: 0 after --help, 2 after bad input (reported as one line on
 /// stderr). Never throws std::invalid_argument; creates nothing.
-std::variant<LaunchCommandLine, int> parse_command_line(int argc, char** argv, const std::string& self_dir);
+std::variant<LaunchCommandLine, int> parse_command_line(int argc, char** argv,
+                                                        const std::string& self_dir);
 
 }  // namespace retreat::launch

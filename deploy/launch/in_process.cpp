@@ -23,21 +23,6 @@ struct InProcessAgent {
   std::unique_ptr<agent::AgentNode> node;
 };
 
-wire::ArenaTelemetry to_wire(const physics::Telemetry& t, std::uint32_t lost, double ticks_per_second) {
-  wire::ArenaTelemetry m;
-  m.tick = t.tick;
-  m.time = t.time;
-  m.inside = t.inside;
-  m.waiting = t.waiting;
-  m.retreating = t.retreating;
-  m.departed = t.departed;
-  m.lost_agents = lost;
-  m.true_density = t.true_density;
-  m.deliveries = t.deliveries;
-  m.ticks_per_second = ticks_per_second;
-  return m;
-}
-
 }  // namespace
 
 RunOutcome run_in_process(const Plan& plan, std::uint64_t seed, const std::string& dir) {
@@ -90,7 +75,7 @@ RunOutcome run_in_process(const Plan& plan, std::uint64_t seed, const std::strin
     std::erase_if(agents, [](const auto& entry) { return entry.second.node->departed(); });
     if (progress.enabled() && (arena.tick() & 255) == 0) {
       const double wall = std::chrono::duration<double>(Clock::now() - start).count();
-      progress.show(to_wire(arena.world().telemetry(), arena.agents_lost(),
+      progress.show(arena::telemetry_message(arena.world().telemetry(), arena.agents_lost(),
                             wall > 0 ? static_cast<double>(arena.tick()) / wall : 0.0));
     }
   }

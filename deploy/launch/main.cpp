@@ -60,7 +60,8 @@ std::string default_out_dir() {
   char stamp[32];
   std::strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S", &local);
   std::string dir = std::string("runs/") + stamp;
-  for (int n = 2; retreat::exists(dir); ++n) dir = std::string("runs/") + stamp + "-" + std::to_string(n);
+  for (int n = 2; retreat::exists(dir); ++n)
+    dir = std::string("runs/") + stamp + "-" + std::to_string(n);
   return dir;
 }
 
@@ -84,20 +85,15 @@ void report(const nlohmann::json& j, const std::string& dir) {
                j.value(nlohmann::json::json_pointer("/population/final"), 0),
                j.value(nlohmann::json::json_pointer("/population/mean_last_300s"), 0.0),
                j.value("optimal_population", 0.0),
-               j.value(nlohmann::json::json_pointer("/agents/lost"), 0),
-               j.value("deliveries", 0ll), hash.substr(0, 16).c_str(), dir.c_str());
+               j.value(nlohmann::json::json_pointer("/agents/lost"), 0), j.value("deliveries", 0ll),
+               hash.substr(0, 16).c_str(), dir.c_str());
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::variant<launch::LaunchCommandLine, int> parsed;
-  try {
-    parsed = launch::parse_command_line(argc, argv, self_dir());
-  } catch (const std::exception& e) {  // a bug, not bad input: still one line, never an abort
-    scenario::report_error("retreat-launch", e.what());
-    return 2;
-  }
+  const auto parsed = scenario::parse_or_report(
+      "retreat-launch", [&] { return launch::parse_command_line(argc, argv, self_dir()); });
   if (const auto* code = std::get_if<int>(&parsed)) return *code;
   const auto& plan = std::get<launch::LaunchCommandLine>(parsed).plan;
   const auto& o = plan.options;
@@ -110,8 +106,9 @@ int main(int argc, char** argv) {
     if (plan.domain) {
       lock = launch::DomainLock::try_lock(*plan.domain);
       if (!lock) {
-        std::fprintf(stderr, "retreat-launch: --domain %d: another retreat-launch run on this host "
-                             "uses it (%s is locked); pick another\n",
+        std::fprintf(stderr,
+                     "retreat-launch: --domain %d: another retreat-launch run on this host "
+                     "uses it (%s is locked); pick another\n",
                      *plan.domain, launch::DomainLock::path(*plan.domain).c_str());
         return 2;
       }
@@ -129,20 +126,24 @@ int main(int argc, char** argv) {
 
   if (!o.in_process) {
     std::uint32_t n = plan.scenario.arena.robots_inside + plan.scenario.arena.robots_waiting;
-    std::fprintf(stderr, "retreat-launch: %s: retreat-arena (%s) and %u retreat-agent processes "
-                         "(%s)%s on DDS domain %d; run directory %s\n",
-                 plan.scenario.name.c_str(), plan.vendors.arena.c_str(), n, plan.vendors.label.c_str(),
+    std::fprintf(stderr,
+                 "retreat-launch: %s: retreat-arena (%s) and %u retreat-agent processes "
+                 "(%s)%s on DDS domain %d; run directory %s\n",
+                 plan.scenario.name.c_str(), plan.vendors.arena.c_str(), n,
+                 plan.vendors.label.c_str(),
                  plan.endless ? " plus one per robot that joins the queue" : "", lock->domain(),
                  out.c_str());
     if (!plan.bridge_exe.empty()) {
       const auto& http = plan.scenario.bridge.http;
-      std::fprintf(stderr, "retreat-launch: retreat-bridge serves the dashboard on %s (logs/bridge.log "
-                           "names the port when bridge.http asks for a free one) and writes report.html\n",
+      std::fprintf(stderr,
+                   "retreat-launch: retreat-bridge serves the dashboard on %s (logs/bridge.log "
+                   "names the port when bridge.http asks for a free one) and writes report.html\n",
                    (http.ends_with(":0") ? http : "http://" + http + "/").c_str());
     }
     if (plan.bridge_missing) {
-      std::fprintf(stderr, "retreat-launch: no bridge is built (no retreat-bridge beside "
-                           "retreat-arena); running without it (--no-bridge: quietly)\n");
+      std::fprintf(stderr,
+                   "retreat-launch: no bridge is built (no retreat-bridge beside "
+                   "retreat-arena); running without it (--no-bridge: quietly)\n");
     }
   }
 
@@ -165,8 +166,9 @@ int main(int argc, char** argv) {
     }
     if (plan.multi_seed) {
       const auto j = launch::write_seeds_summary(out, summaries);
-      std::fprintf(stderr, "retreat-launch: %zu seeds: population mean of the last 300 s %.2f ± %.2f "
-                           "(std over seeds); %s/seeds_summary.json\n",
+      std::fprintf(stderr,
+                   "retreat-launch: %zu seeds: population mean of the last 300 s %.2f ± %.2f "
+                   "(std over seeds); %s/seeds_summary.json\n",
                    summaries.size(),
                    j.value(nlohmann::json::json_pointer("/population/mean_last_300s/mean"), 0.0),
                    j.value(nlohmann::json::json_pointer("/population/mean_last_300s/std"), 0.0),

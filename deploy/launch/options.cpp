@@ -14,13 +14,6 @@
 namespace retreat::launch {
 namespace {
 
-bool parse_u64(const std::string& text, std::uint64_t& value) {
-  const char* first = text.data();
-  const char* last = first + text.size();
-  const auto [end, error] = std::from_chars(first, last, value);
-  return error == std::errc() && end == last && first != last;
-}
-
 std::string join(const std::vector<std::string>& items) {
   std::string out;
   for (const auto& i : items) out += (out.empty() ? "" : ", ") + i;
@@ -35,19 +28,6 @@ bool sets_key(const std::vector<std::string>& overrides, const std::string& key)
 }
 
 }  // namespace
-
-SeedRange parse_seed_range(const std::string& text) {
-  const auto colon = text.find(':');
-  SeedRange r;
-  if (colon == std::string::npos || !parse_u64(text.substr(0, colon), r.first) ||
-      !parse_u64(text.substr(colon + 1), r.last) || r.first > r.last) {
-    throw UsageError("--seeds '" + text + "': must be A:B with whole numbers 0 <= A <= B");
-  }
-  if (r.last - r.first >= 100000) {
-    throw UsageError("--seeds '" + text + "': at most 100000 seeds in one launch");
-  }
-  return r;
-}
 
 std::string VendorPlan::agent(std::uint32_t index) const {
   if (label != "mixed") return arena;

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "retreat/scenario/program_options.hpp"
 #include "retreat/scenario/scenario.hpp"
 
 namespace retreat::launch {
@@ -34,14 +35,8 @@ struct LaunchOptions {
   std::string arena_profile;  ///< the arena's dds.profile (the hub of a star); empty: dds.profile
 };
 
-/// The seeds to run, A..B inclusive.
-struct SeedRange {
-  std::uint64_t first = 0;
-  std::uint64_t last = 0;
-};
-
-/// Parses "A:B" (whole numbers, A <= B); throws UsageError.
-SeedRange parse_seed_range(const std::string& text);
+using scenario::parse_seed_range;
+using scenario::SeedRange;
 
 /// Which vendor each process uses.
 struct VendorPlan {

@@ -33,7 +33,8 @@ int parse(std::string_view program, int argc, char** argv) {
   if (program == "agent") return exit_code_of(agent::parse_command_line(argc, argv));
   if (program == "arena") return exit_code_of(arena::parse_command_line(argc, argv));
   if (program == "bridge") return exit_code_of(bridge::parse_command_line(argc, argv));
-  if (program == "launch") return exit_code_of(launch::parse_command_line(argc, argv, "/nonexistent"));
+  if (program == "launch")
+    return exit_code_of(launch::parse_command_line(argc, argv, "/nonexistent"));
   return -1;
 }
 

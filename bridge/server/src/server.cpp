@@ -22,9 +22,9 @@ using namespace std::chrono_literals;
 using Clock = std::chrono::steady_clock;
 
 constexpr const char* json_type = "application/json";
-constexpr std::array<const char*, 7> run_files = {"telemetry.csv",  "agents.csv",       "summary.json",
-                                                  "scenario.yaml",  "encounters.csv",   "agent_status.csv",
-                                                  "report.html"};
+constexpr std::array<const char*, 7> run_files = {
+    "telemetry.csv",  "agents.csv",       "summary.json", "scenario.yaml",
+    "encounters.csv", "agent_status.csv", "report.html"};
 
 void no_store(httplib::Response& res) { res.set_header("Cache-Control", "no-store"); }
 
@@ -35,16 +35,26 @@ void plain_error(httplib::Response& res, int status, const std::string& message)
 
 const char* reason(int status) {
   switch (status) {
-    case 400: return "bad request";
-    case 404: return "not found";
-    case 405: return "method not allowed";
-    case 413: return "payload too large";
-    case 414: return "URI too long";
-    case 416: return "range not satisfiable";
-    case 431: return "request header fields too large";
-    case 500: return "internal error";
-    case 503: return "unavailable";
-    default: return status >= 500 ? "server error" : "error";
+    case 400:
+      return "bad request";
+    case 404:
+      return "not found";
+    case 405:
+      return "method not allowed";
+    case 413:
+      return "payload too large";
+    case 414:
+      return "URI too long";
+    case 416:
+      return "range not satisfiable";
+    case 431:
+      return "request header fields too large";
+    case 500:
+      return "internal error";
+    case 503:
+      return "unavailable";
+    default:
+      return status >= 500 ? "server error" : "error";
   }
 }
 
@@ -71,6 +81,15 @@ struct Server::Impl {
 
 Server::Server(LiveState& state, ServerOptions options)
     : impl_(std::make_unique<Impl>(state, std::move(options))) {
+  configure_connections();
+  add_page_routes();
+  add_state_routes();
+  add_event_stream_route();
+  add_run_file_routes();
+}
+
+/// Threads, limits, timeouts, socket options, response counting and error pages.
+void Server::configure_connections() {
   auto& http = impl_->http;
   auto* impl = impl_.get();
   const auto threads = impl->options.threads;
@@ -93,14 +112,20 @@ Server::Server(LiveState& state, ServerOptions options)
   });
   http.set_error_handler([](const httplib::Request&, httplib::Response& res) {
     if (res.body.empty()) {
-      res.set_content(std::to_string(res.status) + " " + reason(res.status) + "\n", "text/plain; charset=utf-8");
+      res.set_content(std::to_string(res.status) + " " + reason(res.status) + "\n",
+                      "text/plain; charset=utf-8");
     }
   });
-  http.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr) {
-    plain_error(res, 500, "500 internal error");
-  });
+  http.set_exception_handler(
+      [](const httplib::Request&, httplib::Response& res, std::exception_ptr) {
+        plain_error(res, 500, "500 internal error");
+      });
   http.set_default_headers({{"X-Content-Type-Options", "nosniff"}});
+}
 
+/// The dashboard's page and its assets, embedded in the program.
+void Server::add_page_routes() {
+  auto& http = impl_->http;
   const auto asset = [](const std::string& name) {
     return [name](const httplib::Request&, httplib::Response& res) {
       const auto* a = find_web_asset(name);
@@ -108,8 +133,9 @@ Server::Server(LiveState& state, ServerOptions options)
       res.set_content(a->data.data(), a->data.size(), std::string(content_type_for(name)));
       res.set_header("Cache-Control", name == "index.html" ? "no-cache" : "max-age=300");
       if (name == "index.html") {
-        res.set_header("Content-Security-Policy",
-                       "default-src 'self'; img-src 'self' data:; style-src 'self' 'unsafe-inline'");
+        res.set_header(
+            "Content-Security-Policy",
+            "default-src 'self'; img-src 'self' data:; style-src 'self' 'unsafe-inline'");
       }
     };
   };
@@ -120,7 +146,12 @@ Server::Server(LiveState& state, ServerOptions options)
     if (name == "index.html" || name.rfind("report", 0) == 0) continue;  // report.* are for files
     http.Get("/" + name, asset(name));
   }
+}
 
+/// The JSON API and the Prometheus metrics: /api/state, /api/history, /metrics.
+void Server::add_state_routes() {
+  auto& http = impl_->http;
+  auto* impl = impl_.get();
   http.Get("/api/state", [impl](const httplib::Request&, httplib::Response& res) {
     no_store(res);
     res.set_content(impl->state.state_text().first, json_type);
@@ -136,7 +167,12 @@ Server::Server(LiveState& state, ServerOptions options)
     }),
                     telemetry::prometheus_content_type);
   });
+}
 
+/// /api/events: server-sent events, one per state change, at most max_event_streams at once.
+void Server::add_event_stream_route() {
+  auto& http = impl_->http;
+  auto* impl = impl_.get();
   http.Get("/api/events", [this, impl](const httplib::Request&, httplib::Response& res) {
     if (event_streams_.fetch_add(1) >= impl->options.max_event_streams) {
       --event_streams_;
@@ -176,7 +212,8 @@ Server::Server(LiveState& state, ServerOptions options)
               const auto [text, version] = impl->state.state_text();
               stream->seen = version;
               stream->last_sent = Clock::now();
-              const std::string event = "event: state\nid: " + std::to_string(version) + "\ndata: " + text + "\n\n";
+              const std::string event =
+                  "event: state\nid: " + std::to_string(version) + "\ndata: " + text + "\n\n";
               return sink.write(event.data(), event.size());
             }
             if (Clock::now() - stream->last_sent > o.event_keep_alive) {
@@ -188,7 +225,12 @@ Server::Server(LiveState& state, ServerOptions options)
         },
         [this](bool) { --event_streams_; });
   });
+}
 
+/// The run directory: /api/runs lists its files, /runs/<file> serves one, /report renders one.
+void Server::add_run_file_routes() {
+  auto& http = impl_->http;
+  auto* impl = impl_.get();
   http.Get("/api/runs", [impl](const httplib::Request&, httplib::Response& res) {
     no_store(res);
     nlohmann::json j;
@@ -197,39 +239,46 @@ Server::Server(LiveState& state, ServerOptions options)
       for (const char* f : run_files) {
         std::error_code ec;
         const auto size = std::filesystem::file_size(impl->options.run_dir + "/" + f, ec);
-        if (!ec) j["files"].push_back({{"name", f}, {"size", size}, {"url", std::string("/runs/") + f}});
+        if (!ec)
+          j["files"].push_back({{"name", f}, {"size", size}, {"url", std::string("/runs/") + f}});
       }
     }
     j["recording"] = !impl->options.run_dir.empty();
     res.set_content(j.dump(), json_type);
   });
 
-  http.Get(R"(/runs/([A-Za-z0-9_.-]{1,64}))", [impl](const httplib::Request& req, httplib::Response& res) {
-    const std::string name = req.matches[1];
-    if (impl->options.run_dir.empty()) return plain_error(res, 404, "404 no run directory (start with --out DIR)");
-    if (!is_run_file(name)) return plain_error(res, 404, "404 not a run file");
-    const std::string path = impl->options.run_dir + "/" + name;
-    auto file = std::make_shared<std::ifstream>(path, std::ios::binary);
-    std::error_code ec;
-    const auto size = std::filesystem::file_size(path, ec);
-    if (!*file || ec) return plain_error(res, 404, "404 " + name + " is not in the run directory (yet)");
-    no_store(res);
-    if (name != "report.html") res.set_header("Content-Disposition", "attachment; filename=\"" + name + "\"");
-    // The arena may still be appending: serve the size seen now.
-    res.set_content_provider(static_cast<std::size_t>(size), std::string(content_type_for(name)),
-                             [file](std::size_t offset, std::size_t length, httplib::DataSink& sink) {
-                               char buffer[16384];
-                               file->seekg(static_cast<std::streamoff>(offset));
-                               const auto n = std::min(length, sizeof buffer);
-                               file->read(buffer, static_cast<std::streamsize>(n));
-                               const auto got = static_cast<std::size_t>(file->gcount());
-                               if (got == 0) return false;
-                               return sink.write(buffer, got);
-                             });
-  });
+  http.Get(R"(/runs/([A-Za-z0-9_.-]{1,64}))",
+           [impl](const httplib::Request& req, httplib::Response& res) {
+             const std::string name = req.matches[1];
+             if (impl->options.run_dir.empty())
+               return plain_error(res, 404, "404 no run directory (start with --out DIR)");
+             if (!is_run_file(name)) return plain_error(res, 404, "404 not a run file");
+             const std::string path = impl->options.run_dir + "/" + name;
+             auto file = std::make_shared<std::ifstream>(path, std::ios::binary);
+             std::error_code ec;
+             const auto size = std::filesystem::file_size(path, ec);
+             if (!*file || ec)
+               return plain_error(res, 404, "404 " + name + " is not in the run directory (yet)");
+             no_store(res);
+             if (name != "report.html")
+               res.set_header("Content-Disposition", "attachment; filename=\"" + name + "\"");
+             // The arena may still be appending: serve the size seen now.
+             res.set_content_provider(
+                 static_cast<std::size_t>(size), std::string(content_type_for(name)),
+                 [file](std::size_t offset, std::size_t length, httplib::DataSink& sink) {
+                   char buffer[16384];
+                   file->seekg(static_cast<std::streamoff>(offset));
+                   const auto n = std::min(length, sizeof buffer);
+                   file->read(buffer, static_cast<std::streamsize>(n));
+                   const auto got = static_cast<std::size_t>(file->gcount());
+                   if (got == 0) return false;
+                   return sink.write(buffer, got);
+                 });
+           });
 
   http.Get("/report", [impl](const httplib::Request&, httplib::Response& res) {
-    if (impl->options.run_dir.empty()) return plain_error(res, 404, "404 no run directory (start with --out DIR)");
+    if (impl->options.run_dir.empty())
+      return plain_error(res, 404, "404 no run directory (start with --out DIR)");
     no_store(res);
     try {
       res.set_content(render_report(impl->options.run_dir), "text/html; charset=utf-8");

@@ -1,6 +1,7 @@
 #include "retreat/scenario/program_options.hpp"
 
 #include <atomic>
+#include <charconv>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -18,12 +19,14 @@ void add_common_options(CLI::App& app, CommonOptions& options, bool positional_s
   }
   app.add_option("--dds", options.dds, "middleware: fastdds or cyclonedds (overrides dds.vendor)");
   app.add_option("--domain", options.domain, "DDS domain id 0..232 (overrides dds.domain)");
-  app.add_option("--set", options.overrides, "override a scenario value: section.key=value (repeatable)")
+  app.add_option("--set", options.overrides,
+                 "override a scenario value: section.key=value (repeatable)")
       ->allow_extra_args(false);
   app.add_flag("--print-config", options.print_config, "print the resolved scenario and exit");
 }
 
-std::optional<int> parse_command_line(CLI::App& app, int argc, char** argv, std::string_view program) {
+std::optional<int> parse_command_line(CLI::App& app, int argc, char** argv,
+                                      std::string_view program) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -32,6 +35,29 @@ std::optional<int> parse_command_line(CLI::App& app, int argc, char** argv, std:
     return 2;
   }
   return std::nullopt;
+}
+
+namespace {
+
+bool parse_u64(const std::string& text, std::uint64_t& value) {
+  const char* first = text.data();
+  const char* last = first + text.size();
+  const auto [end, error] = std::from_chars(first, last, value);
+  return error == std::errc() && end == last && first != last;
+}
+
+}  // namespace
+
+SeedRange parse_seed_range(const std::string& text, const std::string& option) {
+  const auto colon = text.find(':');
+  SeedRange r;
+  if (colon == std::string::npos || !parse_u64(text.substr(0, colon), r.first) ||
+      !parse_u64(text.substr(colon + 1), r.last) || r.first > r.last) {
+    throw ConfigError(option + " '" + text + "': must be A:B with whole numbers 0 <= A <= B");
+  }
+  if (r.last - r.first >= 100000)
+    throw ConfigError(option + " '" + text + "': at most 100000 seeds");
+  return r;
 }
 
 Scenario load_scenario(const CommonOptions& options) {
@@ -47,13 +73,15 @@ void report_error(std::string_view program, std::string_view message) {
 }
 
 transport::ParticipantOptions participant_options(const Scenario& s, std::string name,
-                                                  std::string user_data, const std::string& identity) {
+                                                  std::string user_data,
+                                                  const std::string& identity) {
   transport::ParticipantOptions options;
   options.domain_id = s.dds.domain;
   options.name = std::move(name);
   options.user_data = std::move(user_data);
   options.profile = s.dds.profile;
-  if (s.dds.security == "on") options.security = transport::swarm_identity(s.dds.security_dir, identity);
+  if (s.dds.security == "on")
+    options.security = transport::swarm_identity(s.dds.security_dir, identity);
   return options;
 }
 
@@ -74,7 +102,8 @@ bool stop_requested() { return stop_flag.load(); }
 void limit_teardown(std::string_view program, std::chrono::seconds limit, int code) {
   std::thread([name = std::string(program), limit, code] {
     std::this_thread::sleep_for(limit);
-    std::fprintf(stderr, "%s: teardown still running after %lld s; exiting without waiting for it\n",
+    std::fprintf(stderr,
+                 "%s: teardown still running after %lld s; exiting without waiting for it\n",
                  name.c_str(), static_cast<long long>(limit.count()));
     std::fflush(stderr);
     std::_Exit(code);

@@ -3,12 +3,13 @@
 // before it alters a trajectory. The expected values were computed by an independent
 // implementation of the published algorithms (a few lines of Python, in the comments).
 
+#include "retreat/core/rng.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cstdint>
 #include <set>
 
-#include "retreat/core/rng.hpp"
 #include "retreat/core/seed.hpp"
 
 namespace {
@@ -39,9 +40,12 @@ TEST(Rng, UniformTakesTheTop53BitsOfTheNextDraw) {
 
 // counter_uniform(key, k) is SplitMix64's k-th value from `key`, as a 53-bit fraction.
 TEST(CounterUniform, IsTheKthSplitMix64ValueAsAFractionOfOne) {
-  EXPECT_EQ(retreat::counter_uniform(7, 0), static_cast<double>(0x63cbe1e459320dd7ULL >> 11) * 0x1.0p-53);
-  EXPECT_EQ(retreat::counter_uniform(7, 1), static_cast<double>(0x044c3cd7f43c661cULL >> 11) * 0x1.0p-53);
-  EXPECT_EQ(retreat::counter_uniform(7, 2), static_cast<double>(0xe6984080bab12a02ULL >> 11) * 0x1.0p-53);
+  EXPECT_EQ(retreat::counter_uniform(7, 0),
+            static_cast<double>(0x63cbe1e459320dd7ULL >> 11) * 0x1.0p-53);
+  EXPECT_EQ(retreat::counter_uniform(7, 1),
+            static_cast<double>(0x044c3cd7f43c661cULL >> 11) * 0x1.0p-53);
+  EXPECT_EQ(retreat::counter_uniform(7, 2),
+            static_cast<double>(0xe6984080bab12a02ULL >> 11) * 0x1.0p-53);
   EXPECT_DOUBLE_EQ(retreat::counter_uniform(7, 0), 0.3898297483912715);
 }
 

@@ -69,6 +69,12 @@ class Server {
   std::size_t event_streams() const { return event_streams_.load(); }
 
  private:
+  void configure_connections();
+  void add_page_routes();
+  void add_state_routes();
+  void add_event_stream_route();
+  void add_run_file_routes();
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
   std::atomic<std::size_t> event_streams_{0};

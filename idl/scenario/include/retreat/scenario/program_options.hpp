@@ -4,8 +4,8 @@
 /// --print-config; one-line errors and exit code 2 for bad input.
 
 #include <CLI/CLI.hpp>
-
 #include <chrono>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -21,8 +21,8 @@ void report_error(std::string_view program, std::string_view message);
 
 struct CommonOptions {
   std::string scenario_path;
-  std::string dds;   ///< empty: the scenario's dds.vendor
-  int domain = -1;   ///< -1: the scenario's dds.domain
+  std::string dds;  ///< empty: the scenario's dds.vendor
+  int domain = -1;  ///< -1: the scenario's dds.domain
   std::vector<std::string> overrides;
   bool print_config = false;
 };
@@ -33,7 +33,8 @@ void add_common_options(CLI::App& app, CommonOptions& options, bool positional_s
 
 /// Parses the command line. Returns an exit code when the program should stop now: 0 after
 /// --help, 2 after a usage error (reported as one line "<program>: <message>").
-std::optional<int> parse_command_line(CLI::App& app, int argc, char** argv, std::string_view program);
+std::optional<int> parse_command_line(CLI::App& app, int argc, char** argv,
+                                      std::string_view program);
 
 /// Runs @p validate, the start-up checks of a program's command line; bad input
 /// (std::invalid_argument, which ConfigError is) is reported as one line "<program>: <message>"
@@ -50,6 +51,32 @@ auto guarded(std::string_view program, Validate&& validate) -> decltype(validate
   }
 }
 
+/// Runs a program's command-line parser from its `main`: a parser reports bad input itself (see
+/// guarded); anything else it throws is a bug, still reported as one line with exit code 2,
+/// never an abort.
+template <class Parse>
+auto parse_or_report(std::string_view program, Parse&& parse) -> decltype(parse()) {
+  using Result = decltype(parse());
+  try {
+    return parse();
+  } catch (const std::exception& e) {
+    report_error(program, e.what());
+    return Result(2);
+  }
+}
+
+/// Seeds A..B inclusive (`--seeds A:B`).
+struct SeedRange {
+  std::uint64_t first = 1;
+  std::uint64_t last = 1;
+  std::size_t count() const { return static_cast<std::size_t>(last - first + 1); }
+  std::string text() const { return std::to_string(first) + ":" + std::to_string(last); }
+};
+
+/// Parses "A:B" (whole numbers, 0 <= A <= B, at most 100000 seeds). @throws ConfigError naming
+/// @p option, the value and what is allowed.
+SeedRange parse_seed_range(const std::string& text, const std::string& option = "--seeds");
+
 /// Loads the scenario with --set overrides, then --dds and --domain. Throws ConfigError.
 Scenario load_scenario(const CommonOptions& options);
 
@@ -57,7 +84,8 @@ Scenario load_scenario(const CommonOptions& options);
 /// `dds.security: on` the identity @p identity of `dds.security_dir`, e.g. `robot_3`, `arena`,
 /// `bridge`), announcing itself as @p name with @p user_data.
 transport::ParticipantOptions participant_options(const Scenario& s, std::string name,
-                                                  std::string user_data, const std::string& identity);
+                                                  std::string user_data,
+                                                  const std::string& identity);
 
 /// Makes SIGINT and SIGTERM request a stop (see stop_requested) instead of ending the process.
 void install_stop_handlers();
