@@ -1,6 +1,7 @@
 #include "agent_node.hpp"
 
 #include <cmath>
+#include <cstdio>
 
 #include "retreat/agent/controller_registry.hpp"
 #include "retreat/core/seed.hpp"
@@ -8,6 +9,10 @@
 
 namespace retreat::agent {
 namespace {
+
+/// How often the agent lists the readers of its decisions (a restarted arena takes far longer
+/// than this to rebuild its world and match again).
+constexpr std::chrono::milliseconds reader_check_period{100};
 
 Observation to_observation(const wire::ProximityFrame& f) {
   return {f.tick, f.time, static_cast<RobotPhase>(f.phase), f.in_contact, f.new_onsets, f.robot_id};
@@ -29,7 +34,7 @@ AgentNode::AgentNode(const scenario::Scenario& scenario, std::uint32_t robot_id,
       frames_(transport.create_reader<wire::ProximityFrame>(
           {wire::proximity_topic(scenario.dds.prefix, robot_id), transport::QosIntent::control()})),
       decisions_(transport.create_writer<wire::Decision>(
-          {wire::decision_topic(scenario.dds.prefix, robot_id), transport::QosIntent::control()})),
+          {wire::decision_topic(scenario.dds.prefix, robot_id), transport::QosIntent::answers()})),
       statuses_(transport.create_writer<wire::AgentStatus>(
           {wire::agent_status_topic(scenario.dds.prefix), transport::QosIntent::state()})) {}
 
@@ -41,6 +46,25 @@ void AgentNode::spin_once(std::chrono::nanoseconds timeout) {
   }
   for (const auto& f : frames) handle(f);
   counters_.frames_dropped = frames_.stats().dropped_total() + agent_.frames().dropped();
+  watch_decision_readers();
+}
+
+void AgentNode::watch_decision_readers() {
+  const auto now = std::chrono::steady_clock::now();
+  if (now < next_reader_check_) return;
+  next_reader_check_ = now + reader_check_period;
+  for (const auto& reader : decisions_.matched()) {
+    if (!decision_readers_.insert(reader.participant_guid).second) continue;
+    ++counters_.arena_incarnations;
+    if (counters_.arena_incarnations == 1) continue;
+    // Nothing to undo: the tick order makes the new arena's first frame a duplicate or the next
+    // tick, and the dead one stays matched until its lease expires, holding at most
+    // QosIntent::answers_depth of our decisions (a new writer would match it all the same).
+    std::fprintf(stderr,
+                 "retreat-agent robot %u: a new arena incarnation reads our decisions (participant %s, "
+                 "incarnation %u); the previous one is left to its lease\n",
+                 robot_id_, reader.participant_guid.c_str(), counters_.arena_incarnations);
+  }
 }
 
 void AgentNode::handle(const wire::ProximityFrame& frame) {

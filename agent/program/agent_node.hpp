@@ -3,9 +3,12 @@
 /// The one place where the agent's algorithm meets the wire: translates this robot's proximity
 /// frames into observations, steps Algorithm 1, and publishes this robot's decision and status.
 
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <set>
+#include <string>
 
 #include "retreat/agent/retreat_agent.hpp"
 #include "retreat/scenario/scenario.hpp"
@@ -20,12 +23,16 @@ struct NodeCounters {
   std::uint64_t decisions_sent = 0;
   std::uint64_t statuses_sent = 0;
   std::uint64_t write_failures = 0;
+  /// Arena incarnations seen: participants that matched this robot's decision topic as readers
+  /// (1 in a run without restarts; one more for each arena resumed by `--resume`).
+  std::uint32_t arena_incarnations = 0;
 };
 
 class AgentNode {
  public:
   /// Creates the endpoints: a reader on `<prefix>/robot_<id>/proximity` only, writers on
-  /// `<prefix>/robot_<id>/decision` and `<prefix>/agent_status`.
+  /// `<prefix>/robot_<id>/decision` (QosIntent::answers(): a dead arena cannot block it) and
+  /// `<prefix>/agent_status`.
   AgentNode(const scenario::Scenario& scenario, std::uint32_t robot_id, transport::Transport& transport);
 
   /// Waits up to `timeout` for frames and handles every one received (on this thread).
@@ -43,6 +50,8 @@ class AgentNode {
  private:
   void handle(const wire::ProximityFrame& frame);
   void publish_status(std::int64_t tick, double time);
+  /// Notices a new arena incarnation: a participant not seen before reading our decisions.
+  void watch_decision_readers();
 
   transport::Transport& transport_;
   std::uint32_t robot_id_;
@@ -56,6 +65,8 @@ class AgentNode {
   std::int64_t last_status_slot_ = -1;
   bool last_retreating_ = false;
   bool departed_ = false;
+  std::set<std::string> decision_readers_;  ///< participant GUIDs that ever read our decisions
+  std::chrono::steady_clock::time_point next_reader_check_{};
 };
 
 /// The participant user data an agent announces: "retreat:agent:robot=<id>".

@@ -43,16 +43,15 @@ int main(int argc, char** argv) {
     }
     node.flush(std::chrono::seconds(1));
     const auto& c = node.counters();
-    std::fprintf(
-        stderr,
-        "retreat-agent robot %u: %s; frames %llu, dropped %llu, decisions %llu, retreated %s\n",
-        robot_id, node.departed() ? "departed" : "stopped",
-        static_cast<unsigned long long>(c.frames_received),
-        static_cast<unsigned long long>(c.frames_dropped),
-        static_cast<unsigned long long>(c.decisions_sent),
-        node.agent().retreating() ? "yes" : "no");
-    scenario::limit_teardown(program, scenario::teardown_limit,
-                             0);  // nothing left to send or record
+    std::fprintf(stderr,
+                 "retreat-agent robot %u: %s; frames %llu, dropped %llu, decisions %llu, "
+                 "arena incarnations %u, retreated %s\n",
+                 robot_id, node.departed() ? "departed" : "stopped",
+                 static_cast<unsigned long long>(c.frames_received),
+                 static_cast<unsigned long long>(c.frames_dropped),
+                 static_cast<unsigned long long>(c.decisions_sent), c.arena_incarnations,
+                 node.agent().retreating() ? "yes" : "no");
+    scenario::limit_teardown(program, scenario::teardown_limit, 0);  // nothing left to send or record
     return 0;
   } catch (const std::invalid_argument& e) {
     scenario::report_error(program, e.what());

@@ -6,7 +6,8 @@
 //         <prefix>/poses                   (positions for display, keyed by arena id)
 // Files (--out DIR): scenario.yaml, telemetry.csv, agents.csv, encounters.csv (when asked),
 //                    retreats.csv (the retreat decisions applied, by tick), summary.json.
-//                    --resume continues such a directory after the arena died (real time).
+//                    --resume continues such a directory after the arena died (lockstep or
+//                    real time; in lockstep with the uninterrupted trajectory).
 //
 // Exit codes: 0 run completed (or stopped by SIGINT/SIGTERM, summary written); 2 bad input at
 // start-up; 1 middleware or file failure.

@@ -35,9 +35,11 @@ constexpr auto child_stop_grace = 5s;
 /// A bridge that dies mid-run is restarted (it appends to agent_status.csv; telemetry.csv is
 /// the arena's), at most this many times: a bridge that keeps dying is left dead.
 constexpr std::uint32_t max_bridge_restarts = 10;
-/// Real time: an arena killed by a signal is restarted with --resume (it rebuilds its world from
-/// the run directory; the agents keep running and see a gap in the ticks), at most this often.
-/// Lockstep runs are not resumed: a dead lockstep arena fails the run (rerun it from its seed).
+/// An arena killed by a signal is restarted with --resume (it rebuilds its world from the run
+/// directory; the agents keep running and see a pause), at most this often. Lockstep and real
+/// time alike: in lockstep the run then has the uninterrupted trajectory, since the agents'
+/// decision writers keep at most a few decisions for the dead arena and never block on it
+/// (transport::QosIntent::answers()). An arena that exits with an error code is not restarted.
 constexpr std::uint32_t max_arena_restarts = 5;
 
 struct AgentProcess {
@@ -175,7 +177,6 @@ RunOutcome run_processes(const Plan& plan, std::uint64_t seed, const std::string
     // The arena first: it waits for the agents itself (run.startup_timeout), and with Fast DDS
     // its low participant index keeps it among every agent's initial unicast peers.
     auto arena_args = with({plan.arena_exe, "--dds", plan.vendors.arena, "--out", dir});
-    const bool realtime = s.run.mode == "realtime";
     if (!plan.options.arena_profile.empty()) {
       arena_args.push_back("--set");  // after the user's --set: this one wins
       arena_args.push_back("dds.profile=" + fs::absolute(plan.options.arena_profile).string());
@@ -223,7 +224,7 @@ RunOutcome run_processes(const Plan& plan, std::uint64_t seed, const std::string
         break;
       }
       if (const auto& st = arena->poll()) {
-        if (!realtime || st->signal == 0 || arena_restarts == max_arena_restarts) break;
+        if (st->signal == 0 || arena_restarts == max_arena_restarts) break;
         ++arena_restarts;
         const std::string log = dir + "/logs/arena.restart_" + std::to_string(arena_restarts) + ".log";
         progress.message("retreat-launch: retreat-arena (pid " + std::to_string(arena->pid()) + ") " +

@@ -22,7 +22,7 @@ struct LaunchRecord {
   std::map<std::string, std::uint32_t> agent_vendors;  ///< vendor -> agent processes
   bool bridge = false;
   std::uint32_t bridge_restarts = 0;  ///< times the launcher restarted a bridge that died
-  std::uint32_t arena_restarts = 0;   ///< times it resumed a real-time arena that died
+  std::uint32_t arena_restarts = 0;   ///< times it resumed an arena killed by a signal
   /// From the launch until the launcher saw the arena's first telemetry (tick 0, published once
   /// the agents matched) [s]; −1: not seen (in-process, or no telemetry reader).
   double seconds_to_first_tick = -1.0;

@@ -4,7 +4,7 @@
 if(RETREAT_WITH_FASTDDS OR RETREAT_WITH_CYCLONEDDS)
   retreat_test(faults_test SOURCES ${CMAKE_CURRENT_LIST_DIR}/faults_test.cpp
     DEPS retreat::transports retreat::testing nlohmann_json::nlohmann_json
-    LABELS faults integration)
+    LABELS faults integration TIMEOUT 900)  # a ceiling for a loaded machine; a test takes ~1 min
   target_compile_definitions(faults_test PRIVATE
     RETREAT_LAUNCH_BIN="$<TARGET_FILE:retreat-launch>"
     RETREAT_ARENA_BIN="$<TARGET_FILE:retreat-arena>"

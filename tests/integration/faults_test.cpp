@@ -1,10 +1,11 @@
 // Faults beyond a lost agent (issue 8): a bridge killed mid-run, repeatedly, is restarted by the
 // launcher and the run directory loses nothing; a real-time arena killed mid-run is resumed from
 // the run directory and the same agent processes go on with it. Assertions are on the run
-// directory's files. A lockstep arena killed and resumed by hand gives the trajectory of the
+// directory's files. A lockstep arena killed and resumed (by hand, and by the launcher) gives the trajectory of the
 // uninterrupted run: the replay rebuilds the world exactly. A /dev/shm full of stale Fast DDS
 // segments is cleaned by the launcher and the run completes; one full of something else is
-// refused in one line. Domain ids of this file: 73, 74, 75, 77, 78.
+// refused in one line. The launcher resumes a lockstep arena killed mid-run by itself, and the
+// run has the uninterrupted trajectory, over each vendor. Domain ids of this file: 73..79.
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -21,6 +22,8 @@ namespace {
 constexpr int domain_kill_bridge = 73;
 constexpr int domain_kill_realtime_arena = 74;
 constexpr int domain_resume_lockstep_arena = 75;
+constexpr int domain_launcher_resumes_lockstep_fastdds = 76;
+constexpr int domain_launcher_resumes_lockstep_cyclonedds = 79;
 constexpr int domain_shm_stale = 77;
 constexpr int domain_shm_full = 78;
 
@@ -179,10 +182,7 @@ TEST(Faults, ALockstepArenaResumedByHandGivesTheUninterruptedTrajectory) {
   const std::string vendor = built("fastdds") ? "fastdds" : "cyclonedds";
   const auto dir = fresh_dir("faults-resume-lockstep");
   // 200 simulated seconds (6,667 ticks); the first retreats come after L = 90 s (~tick 3,000).
-  // Why no longer: until the dead arena's participant lease expires (Fast DDS 20 s, Cyclone DDS
-  // 10 s), each agent's reliable decision writer keeps every sample for the dead reader, and at
-  // lockstep speed its 4,096-sample history fills in about 3 s: the agent then blocks and the
-  // resumed arena counts it lost (docs/deploy.md). The ~3,500 ticks after the kill stay below.
+  // (The launcher's test below runs past what a keep-all decision writer held for the dead arena.)
   std::filesystem::create_directories(dir + "/reference");
   ASSERT_EQ(
       run_launch(dir + "/reference", {robotarium, "--in-process", "--set", "run.duration=200"}), 0)
@@ -234,6 +234,86 @@ TEST(Faults, ALockstepArenaResumedByHandGivesTheUninterruptedTrajectory) {
     ASSERT_EQ(first_field(telemetry[i]), static_cast<std::int64_t>(i)) << "row " << i;
   }
 }
+
+struct Vendor {
+  const char* name;
+  int domain;
+  friend void PrintTo(const Vendor& v, std::ostream* os) { *os << v.name; }
+};
+
+class LauncherResumesLockstep : public ::testing::TestWithParam<Vendor> {};
+
+/// The telemetry row ticks of `<out>/telemetry.csv` are 1..ticks, each once.
+void expect_every_tick_once(const std::string& out, std::int64_t ticks) {
+  const auto telemetry = lines_of(out + "/telemetry.csv");
+  ASSERT_EQ(telemetry.size(), 1u + static_cast<std::size_t>(ticks));
+  for (std::size_t i = 1; i < telemetry.size(); ++i) {
+    ASSERT_EQ(first_field(telemetry[i]), static_cast<std::int64_t>(i)) << "row " << i;
+  }
+}
+
+// The launcher resumes a lockstep arena killed by a signal as it does a real-time one, with the
+// same agent processes, and lockstep makes the outcome checkable: the trajectory of the
+// uninterrupted run of the same scenario and seed, computed here in process (launch_runs_test
+// proves in-process and process runs equal).
+TEST_P(LauncherResumesLockstep, AnArenaKilledMidRunAndTheRunHasTheUninterruptedTrajectory) {
+  const std::string vendor = GetParam().name;
+  if (!built(vendor)) GTEST_SKIP() << vendor << " is not built";
+  const auto dir = fresh_dir("faults-launcher-resumes-lockstep-" + vendor);
+  // 400 simulated seconds (13,334 ticks); the first retreats come after L = 90 s (~tick 3,000).
+  // Killed once some are journalled, about 10,000 ticks remain: more than an agent's keep-all
+  // decision writer could hold for the dead arena (Fast DDS 4,096 samples) before its lease
+  // expired (20 s) when the machine runs them that fast; a bounded writer never blocks on it.
+  const std::vector<std::string> run = {robotarium, "--set", "run.duration=400", "--set", "seed=5"};
+  constexpr std::int64_t ticks = 13334;
+  auto reference_args = run;
+  reference_args.push_back("--in-process");
+  std::filesystem::create_directories(dir + "/reference");
+  ASSERT_EQ(run_launch(dir + "/reference", reference_args, 4min), 0) << log_of(dir + "/reference");
+  const auto reference = read_json(dir + "/reference/run/summary.json");
+  ASSERT_FALSE(reference.empty());
+
+  auto args = run;
+  for (const auto& a : {std::string("--dds"), vendor, std::string("--domain"), std::to_string(GetParam().domain)}) {
+    args.push_back(a);
+  }
+  auto l = start_launch(dir, args);
+  json before;
+  ASSERT_TRUE(testing::eventually(
+      [&] {
+        before = read_json(l.out + "/processes.json");
+        return !before.empty() && lines_of(l.out + "/retreats.csv").size() > 3;
+      },
+      4min))
+      << log_of(dir);
+  const auto agents = agent_pids(before);
+  const pid_t first_arena = before["arena"]["pid"].get<pid_t>();
+  ASSERT_EQ(::kill(first_arena, SIGKILL), 0);
+
+  const auto code = l.process.wait_for(6min);
+  if (!code) l.process.stop();
+  ASSERT_TRUE(code.has_value()) << "the launcher did not finish; " << log_of(dir);
+  ASSERT_EQ(*code, 0) << log_of(dir);
+  const auto after = read_json(l.out + "/processes.json");
+  EXPECT_NE(after["arena"]["pid"].get<pid_t>(), first_arena);
+  EXPECT_EQ(agent_pids(after), agents);  // the same agents served both arenas
+  const auto summary = read_json(l.out + "/summary.json");
+  ASSERT_FALSE(summary.empty()) << log_of(dir);
+  EXPECT_GE(summary["launch"]["arena_restarts"].get<int>(), 1);
+  EXPECT_TRUE(summary.contains("resumed_at_tick"));
+  EXPECT_EQ(summary["ticks"], ticks);
+  EXPECT_EQ(summary["agents"]["lost"], 0);
+  EXPECT_EQ(summary["trajectory_sha256"], reference["trajectory_sha256"]);
+  EXPECT_EQ(summary["deliveries"], reference["deliveries"]);
+  EXPECT_EQ(summary["agents"]["retreated"], reference["agents"]["retreated"]);
+  expect_every_tick_once(l.out, ticks);
+  EXPECT_TRUE(alive(child_pids(after)).empty());
+}
+
+INSTANTIATE_TEST_SUITE_P(Vendors, LauncherResumesLockstep,
+                         ::testing::Values(Vendor{"fastdds", domain_launcher_resumes_lockstep_fastdds},
+                                           Vendor{"cyclonedds", domain_launcher_resumes_lockstep_cyclonedds}),
+                         [](const auto& param_info) { return std::string(param_info.param.name); });
 
 /// The shipped loopback profile plus Fast DDS's shared-memory transport: what a user's profile
 /// with Fast DDS defaults does (retreat's own profiles never use shared memory).

@@ -1,10 +1,12 @@
 // retreat-launch under faults: agents killed mid-run (the run completes, they are counted lost,
-// the launcher exits 0), the arena killed (the launcher stops everything and exits 1), the
+// the launcher exits 0), the arena killed more often than the launcher resumes it (it stops
+// everything and exits 1; one resume is in faults_test), the
 // launcher itself stopped by SIGTERM (every child stopped, the summary still written). In every
 // case no child is left behind: each PID of processes.json is gone.
 
 #include <gtest/gtest.h>
 
+#include <set>
 #include <thread>
 
 #include "launch_support.hpp"
@@ -74,18 +76,34 @@ TEST(LaunchFaults, TwoAgentsKilledMidRunAreCountedLostAndTheRunCompletes) {
   EXPECT_TRUE(alive(child_pids(processes)).empty());
 }
 
-TEST(LaunchFaults, AKilledArenaStopsEveryChildAndTheLauncherFails) {
+TEST(LaunchFaults, AnArenaKilledMoreOftenThanItIsResumedStopsEveryChildAndTheLauncherFails) {
   const std::string vendor = built("fastdds") ? "fastdds" : "cyclonedds";
   const auto dir = fresh_dir("kill-arena");
   auto l = start_launch(dir, {robotarium, "--dds", vendor, "--domain", std::to_string(domain_kill_arena)});
   const auto processes = wait_for_processes(l.out);
   ASSERT_FALSE(processes.empty()) << log_of(dir);
   ASSERT_TRUE(wait_for_simulated_time(vendor, domain_kill_arena, 5.0)) << log_of(dir);
-  ASSERT_EQ(::kill(processes["arena"]["pid"].get<pid_t>(), SIGKILL), 0);
+  // The first arena and the 5 the launcher resumes (its budget), each killed once listed.
+  std::vector<pid_t> children = child_pids(processes);
+  std::set<pid_t> arenas;
+  for (int kill = 0; kill <= 5; ++kill) {
+    json current;
+    ASSERT_TRUE(testing::eventually(
+        [&] {
+          current = read_json(l.out + "/processes.json");
+          return !current.empty() && arenas.count(current["arena"]["pid"].get<pid_t>()) == 0;
+        },
+        retreat::testing::hang_ceiling))
+        << "the launcher did not resume the arena after kill " << kill << "; " << log_of(dir);
+    const pid_t arena = current["arena"]["pid"].get<pid_t>();
+    arenas.insert(arena);
+    children.push_back(arena);
+    ASSERT_EQ(::kill(arena, SIGKILL), 0);
+  }
   const auto code = l.process.wait_for(retreat::testing::hang_ceiling);
   ASSERT_TRUE(code.has_value()) << "the launcher did not finish; " << log_of(dir);
   EXPECT_EQ(*code, 1) << log_of(dir);
-  EXPECT_TRUE(alive(child_pids(processes)).empty());
+  EXPECT_TRUE(alive(children).empty());
   EXPECT_FALSE(std::filesystem::exists(l.out + "/summary.json"));
 }
 

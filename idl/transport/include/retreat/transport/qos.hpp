@@ -21,6 +21,19 @@ struct QosIntent {
   /// Reliable, volatile, keep all: per-robot proximity frames and decisions (lockstep relies on
   /// every sample arriving, in order).
   static constexpr QosIntent control() { return {Reliability::reliable, Durability::volatile_data, 0}; }
+  /// Reliable, volatile, keep last `answers_depth`: an agent's decision writer. A reader that
+  /// stops acknowledging (an arena killed by a signal, matched until its participant lease
+  /// expires: Fast DDS 20 s, Cyclone DDS 10 s) then holds at most that many samples and can never
+  /// block the writer, whatever vendor; a keep-all writer blocks once its history (Fast DDS) or
+  /// its unacknowledged bytes (Cyclone DDS) are full. A live reader loses nothing: lockstep has
+  /// at most a few answers in flight. History is not a request/offered QoS: readers still ask
+  /// control(), and the wire does not change (docs/protocol.md §6).
+  static constexpr QosIntent answers() {
+    return {Reliability::reliable, Durability::volatile_data, answers_depth};
+  }
+  /// 64 decisions: well under Cyclone DDS's initial writer high-water mark (30 kB at ~110 bytes
+  /// a decision), above which a writer throttles until a dead reader acknowledges.
+  static constexpr std::uint32_t answers_depth = 64;
   /// Reliable, transient-local, keep last 1 per instance: status, telemetry, poses; a late joiner
   /// receives the newest sample of every instance.
   static constexpr QosIntent state() { return {Reliability::reliable, Durability::transient_local, 1}; }
