@@ -15,6 +15,8 @@ packages=(
   libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libcpp-httplib-dev libssl-dev
   # tests and benchmarks; the fuzzers (tests/fuzz) need Clang and its libFuzzer runtime
   libgtest-dev libgmock-dev googletest libbenchmark-dev clang libclang-rt-14-dev
+  # the portability check of the test command: the pure core built with Clang and libc++
+  libc++-14-dev libc++abi-14-dev
   # test helpers: network namespaces for multi-host tests, python for scripts
   iproute2 procps python3
   # packet loss between emulated hosts (tests/integration/multihost_test.cpp)

@@ -1,20 +1,22 @@
 #!/usr/bin/env bash
 # The test command: installs what is missing, builds, and runs every test (unit, contract,
-# integration, scenario, package) with CTest, then a short run of every fuzzer (tests/fuzz). Exit
-# code 0 only if every test passed.
+# integration, scenario, package) with CTest, then a deterministic run of every fuzzer
+# (tests/fuzz: fixed seed, fixed number of inputs). Exit code 0 only if every test passed.
+# No test passes or fails by wall-clock speed: the whole command holds on a loaded machine.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${RETREAT_BUILD_DIR:-$root/build}
 "$root/deploy/build.sh"
 # Two jobs on two cores; each multi-process test uses its own DDS domain id, so tests may overlap.
 status=0
-ctest --test-dir "$build" -j2 --output-on-failure --timeout 600 --no-tests=error || status=$?
+ctest --test-dir "$build" -j2 --output-on-failure --no-tests=error || status=$?
 # Fuzz stage (docs/fuzzing.md): a Clang tree instrumented for libFuzzer, ASan and UBSan; only the
-# fuzz targets and what they need are built, then each fuzzer runs for 20 s from its seed corpus.
+# fuzz targets and what they need are built, then each fuzzer runs a fixed number of inputs with
+# a fixed seed from its committed corpus (open-ended fuzzing: deploy/fuzz.sh).
 fuzz=${RETREAT_FUZZ_BUILD_DIR:-$build-fuzz}
 cmake -S "$root" -B "$fuzz" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang \
   -DCMAKE_CXX_COMPILER=clang++ -DRETREAT_BUILD_FUZZERS=ON -DRETREAT_BUILD_TESTS=OFF \
   -DRETREAT_BUILD_BENCHMARKS=OFF -DRETREAT_WEB_DEPS_DIR="$build/web-deps" >/dev/null
 cmake --build "$fuzz" -j2 --target retreat_fuzzers
-ctest --test-dir "$fuzz" -j2 -L fuzz --output-on-failure --timeout 300 --no-tests=error || status=$?
+ctest --test-dir "$fuzz" -j2 -L fuzz --output-on-failure --no-tests=error || status=$?
 exit $status

@@ -12,6 +12,7 @@
 #include <iostream>
 #include <thread>
 
+#include "retreat/testing/process.hpp"
 #include "retreat/testing/samples.hpp"
 #include "retreat/transport/factory.hpp"
 

@@ -269,7 +269,7 @@ TEST_P(LauncherResumesLockstep, AnArenaKilledMidRunAndTheRunHasTheUninterruptedT
   auto reference_args = run;
   reference_args.push_back("--in-process");
   std::filesystem::create_directories(dir + "/reference");
-  ASSERT_EQ(run_launch(dir + "/reference", reference_args, 4min), 0) << log_of(dir + "/reference");
+  ASSERT_EQ(run_launch(dir + "/reference", reference_args), 0) << log_of(dir + "/reference");
   const auto reference = read_json(dir + "/reference/run/summary.json");
   ASSERT_FALSE(reference.empty());
 
@@ -284,13 +284,13 @@ TEST_P(LauncherResumesLockstep, AnArenaKilledMidRunAndTheRunHasTheUninterruptedT
         before = read_json(l.out + "/processes.json");
         return !before.empty() && lines_of(l.out + "/retreats.csv").size() > 3;
       },
-      4min))
+      retreat::testing::hang_ceiling))
       << log_of(dir);
   const auto agents = agent_pids(before);
   const pid_t first_arena = before["arena"]["pid"].get<pid_t>();
   ASSERT_EQ(::kill(first_arena, SIGKILL), 0);
 
-  const auto code = l.process.wait_for(6min);
+  const auto code = l.process.wait_for(retreat::testing::hang_ceiling);
   if (!code) l.process.stop();
   ASSERT_TRUE(code.has_value()) << "the launcher did not finish; " << log_of(dir);
   ASSERT_EQ(*code, 0) << log_of(dir);
