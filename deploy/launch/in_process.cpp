@@ -44,7 +44,7 @@ RunOutcome run_in_process(const Plan& plan, std::uint64_t seed, const std::strin
   using Clock = std::chrono::steady_clock;
   const auto launch_start = Clock::now();
   auto s = scenario::load(plan.options.scenario_path, overrides_for_seed(plan, seed));
-  s.dds.vendor = "inmemory";  // what scenario.yaml in the run directory records
+  s.dds.vendor = scenario::Vendor::inmemory;  // what scenario.yaml in the run directory records
 
   auto bus = transport::make_inmemory_bus();  // a private "domain" for this run only
   auto participant = [&](const std::string& name, const std::string& user_data) {

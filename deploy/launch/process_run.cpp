@@ -175,7 +175,7 @@ RunOutcome run_processes(const Plan& plan, std::uint64_t seed, const std::string
     // The arena first: it waits for the agents itself (run.startup_timeout), and with Fast DDS
     // its low participant index keeps it among every agent's initial unicast peers.
     auto arena_args = with({plan.arena_exe, "--dds", plan.vendors.arena, "--out", dir});
-    const bool realtime = s.run.mode == "realtime";
+    const bool realtime = s.run.mode == scenario::RunMode::realtime;
     if (!plan.options.arena_profile.empty()) {
       arena_args.push_back("--set");  // after the user's --set: this one wins
       arena_args.push_back("dds.profile=" + fs::absolute(plan.options.arena_profile).string());
