@@ -35,7 +35,7 @@ int main(int argc, char** argv) {
   try {
     const auto robot = "robot_" + std::to_string(robot_id);
     auto transport = transport::make_transport(
-        s.dds.vendor, scenario::participant_options(s, "retreat-agent/" + robot,
+        retreat::name_of(s.dds.vendor), scenario::participant_options(s, "retreat-agent/" + robot,
                                                     agent::agent_user_data(robot_id), robot));
     agent::AgentNode node(s, robot_id, *transport);
     while (!scenario::stop_requested() && !node.departed()) {

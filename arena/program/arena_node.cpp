@@ -149,7 +149,7 @@ void ArenaNode::take_decisions(Robot& r, std::int64_t current) {
       ++counters_.unknown_robot;
     } else if (d.tick > current) {
       ++counters_.future;
-    } else if (scenario_.run.mode == "lockstep" && (d.tick < current || r.record.lost)) {
+    } else if (scenario_.run.mode == scenario::RunMode::lockstep && (d.tick < current || r.record.lost)) {
       ++counters_.stale;  // lockstep answers only count for the tick they answer
     } else {
       ++counters_.received;

@@ -43,7 +43,7 @@ int main(int argc, char** argv) {
     std::unique_ptr<arena::RunRecorder> recorder;
     if (!out_dir.empty()) recorder = std::make_unique<arena::RunRecorder>(out_dir, s, resume);
     auto transport = transport::make_transport(
-        s.dds.vendor, scenario::participant_options(s, "retreat-arena", "retreat:arena", "arena"));
+        retreat::name_of(s.dds.vendor), scenario::participant_options(s, "retreat-arena", "retreat:arena", "arena"));
     arena::ArenaNode node(s, *transport, recorder.get());
     if (resume) {
       node.replay(recorder->resumable_tick(), recorder->journal());
@@ -51,14 +51,13 @@ int main(int argc, char** argv) {
                    static_cast<long long>(node.tick()));
     }
     const auto keep_going = [] { return !scenario::stop_requested(); };
-    const bool lockstep = s.run.mode == "lockstep";
+    const bool lockstep = s.run.mode == scenario::RunMode::lockstep;
 
-    const auto matched =
-        node.wait_for_agents(std::chrono::duration_cast<std::chrono::nanoseconds>(
-                                 std::chrono::duration<double>(s.run.startup_timeout)),
-                             keep_going);
+    const auto matched = node.wait_for_agents(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                                  std::chrono::duration<double>(s.run.startup_timeout)),
+                                              keep_going);
     std::fprintf(stderr, "retreat-arena: %u agents matched, running %s\n", matched,
-                 s.run.mode.c_str());
+                 std::string(retreat::name_of(s.run.mode)).c_str());
     const auto start = Clock::now();
     const auto period = std::chrono::duration<double>(s.agent.dt / s.run.speed);
     auto next = start;

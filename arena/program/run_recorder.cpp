@@ -142,7 +142,7 @@ void RunRecorder::finish(const physics::World& world, const std::vector<AgentRec
     }
   }
   const auto& p = world.params();
-  const auto domain = p.shape == "ellipse" ? physics::Domain::ellipse(p.semi_axis_x, p.semi_axis_y)
+  const auto domain = p.shape == physics::DomainShape::ellipse ? physics::Domain::ellipse(p.semi_axis_x, p.semi_axis_y)
                                            : physics::Domain::rectangle(p.width, p.height);
   const double lambda_star = model::lambda_star(scenario_.model);
   double sum = 0.0;
@@ -158,9 +158,9 @@ void RunRecorder::finish(const physics::World& world, const std::vector<AgentRec
   j["scenario"] = scenario_.name;
   j["seed"] = scenario_.seed;
   j["dds"] = summary.dds;
-  j["mode"] = scenario_.run.mode;
+  j["mode"] = std::string(retreat::name_of(scenario_.run.mode));
   j["controller"] = scenario_.agent.controller;
-  j["encounter_model"] = p.encounter_model;
+  j["encounter_model"] = std::string(retreat::name_of(p.encounter_model));
   j["area"] = domain.area();
   j["lambda_star"] = lambda_star;
   j["optimal_population"] = lambda_star * domain.area();

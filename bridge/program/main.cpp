@@ -164,8 +164,7 @@ int serve(const bridge::BridgeCommandLine& command_line) {
   std::unique_ptr<transport::Transport> transport;
   try {
     transport = transport::make_transport(
-        s.dds.vendor,
-        scenario::participant_options(s, "retreat-bridge", "retreat:bridge", "bridge"));
+        retreat::name_of(s.dds.vendor), scenario::participant_options(s, "retreat-bridge", "retreat:bridge", "bridge"));
     receiver = std::make_unique<bridge::Receiver>(*transport, s.dds.prefix, state, recorder.get());
   } catch (const std::invalid_argument& e) {
     return fail(2, e.what());
@@ -191,7 +190,7 @@ int serve(const bridge::BridgeCommandLine& command_line) {
   std::printf("retreat-bridge: serving http://%s:%d/\n", command_line.address.host.c_str(), port);
   std::fflush(stdout);
   std::fprintf(stderr, "retreat-bridge: %s on %s domain %d, prefix '%s'%s%s\n", s.name.c_str(),
-               s.dds.vendor.c_str(), s.dds.domain, s.dds.prefix.c_str(),
+               std::string(retreat::name_of(s.dds.vendor)).c_str(), s.dds.domain, s.dds.prefix.c_str(),
                out_dir.empty() ? "" : ", recording into ", out_dir.c_str());
 
   int signo = 0;

@@ -14,7 +14,7 @@ RunOutcome run_in_process(const Plan& plan, std::uint64_t seed, const std::strin
   using Clock = std::chrono::steady_clock;
   const auto launch_start = Clock::now();
   auto s = scenario::load(plan.options.scenario_path, overrides_for_seed(plan, seed));
-  s.dds.vendor = "inmemory";  // what scenario.yaml in the run directory records
+  s.dds.vendor = scenario::Vendor::inmemory;  // what scenario.yaml in the run directory records
 
   arena::RunRecorder recorder(dir, s);
   const auto keep_going = [] { return stop_signal.load() == 0; };

@@ -102,7 +102,7 @@ Plan make_plan(const LaunchOptions& options, const std::string& self_dir) {
   if (!plan.multi_seed) plan.seeds.push_back(plan.scenario.seed);
   // overrides_for_seed() appends the seed itself.
   std::erase_if(plan.overrides, [](const std::string& s) { return s.rfind("seed=", 0) == 0; });
-  plan.endless = plan.scenario.arena.queue == "endless";
+  plan.endless = plan.scenario.arena.queue == physics::QueueKind::endless;
 
   if (!o.arena_profile.empty()) {
     if (o.in_process) throw UsageError("--arena-profile: not used with --in-process (no DDS)");
@@ -111,33 +111,35 @@ Plan make_plan(const LaunchOptions& options, const std::string& self_dir) {
                        "for the arena, e.g. deploy/dds/fastdds-discovery-server-hub.xml)");
     }
   }
-  const bool secure = plan.scenario.dds.security == "on";
+  const bool secure = plan.scenario.dds.security == scenario::Security::on;
   if (o.in_process) {
     if (secure) {
       throw UsageError("dds.security = on: not used with --in-process (the in-memory transport has "
                        "no DDS Security)");
     }
     plan.vendors = {"inmemory", "inmemory"};
-    if (plan.scenario.run.mode != "lockstep") {
-      throw UsageError("run.mode = " + plan.scenario.run.mode +
+    if (plan.scenario.run.mode != scenario::RunMode::lockstep) {
+      throw UsageError("run.mode = " + std::string(retreat::name_of(plan.scenario.run.mode)) +
                        ": --in-process steps the arena and the agents in lockstep only");
     }
     return plan;
   }
 
   // Process mode.
-  const std::string vendor = o.dds.empty() ? plan.scenario.dds.vendor : o.dds;
-  if (vendor == "inmemory") {
+  // --dds names a vendor (already in the scenario through dds.vendor) or the launcher's `mixed`.
+  const bool mixed = o.dds == "mixed";
+  if (!mixed && plan.scenario.dds.vendor == scenario::Vendor::inmemory) {
     throw UsageError("dds.vendor = inmemory: separate processes need fastdds or cyclonedds "
                      "(or use --in-process)");
   }
-  if (secure && vendor == "mixed") {
+  if (secure && mixed) {
     // docs/security.md: Fast DDS 2.9 and Cyclone DDS 0.10 do not complete secure handshakes
     // with each other reliably.
     throw UsageError("--dds mixed: not with dds.security = on (secure handshakes between Fast DDS "
                      "and Cyclone DDS fail in these versions; see docs/security.md)");
   }
-  plan.vendors = vendor == "mixed" ? VendorPlan{"mixed", "cyclonedds"} : VendorPlan{vendor, vendor};
+  const std::string vendor(retreat::name_of(plan.scenario.dds.vendor));  // the children's --dds
+  plan.vendors = mixed ? VendorPlan{"mixed", "cyclonedds"} : VendorPlan{vendor, vendor};
   // Every child resolves the PKI directory from its own working directory: make it absolute.
   if (secure) plan.overrides.push_back("dds.security_dir=" + fs::absolute(plan.scenario.dds.security_dir).string());
   // The domain: --domain, or --set dds.domain=N; otherwise a free one is picked at run time.

@@ -1,11 +1,12 @@
-// The scenario file: shipped scenarios load, dump and reload to the same values; the loader
-// refuses bad input with one line naming the key, the value and what is allowed.
+// The scenario file: shipped scenarios load, dump and reload to the same values (in YAML and in
+// JSON); the loaders refuse bad input with one line naming the key, the value and what is allowed.
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
 
 #include "retreat/model/optimum.hpp"
+#include "retreat/scenario/json.hpp"
 #include "retreat/scenario/scenario.hpp"
 
 namespace retreat::scenario {
@@ -33,12 +34,12 @@ TEST(ShippedScenarios, EveryShippedScenarioLoadsAndSurvivesADumpAndReload) {
 
 TEST(ShippedScenarios, TheRobotariumScenarioHasTheExperimentsParameters) {
   const auto s = load(std::string(RETREAT_SCENARIOS) + "/robotarium-2019.yaml");
-  EXPECT_EQ(s.arena.shape, "ellipse");
+  EXPECT_EQ(s.arena.shape, physics::DomainShape::ellipse);
   EXPECT_DOUBLE_EQ(s.arena.semi_axis_x, 1.2);
   EXPECT_DOUBLE_EQ(s.arena.semi_axis_y, 0.8);
   EXPECT_EQ(s.arena.robots_inside, 8u);
   EXPECT_EQ(s.arena.robots_waiting, 4u);
-  EXPECT_EQ(s.arena.queue, "finite");
+  EXPECT_EQ(s.arena.queue, physics::QueueKind::finite);
   EXPECT_DOUBLE_EQ(s.model.lambda_p, 1.32);
   EXPECT_DOUBLE_EQ(s.model.lambda_d, 1.32);
   EXPECT_DOUBLE_EQ(s.model.C, 0.03);
@@ -95,6 +96,69 @@ TEST(ScenarioLoader, OutOfRangeValuesNameTheKeyTheValueAndTheRange) {
   expect_error("", {"dds.prefix=a//b"}, "dds.prefix = 'a//b'");
   expect_error("", {"dds.security=yes"}, "dds.security = 'yes': must be on or off");
   expect_error("", {"dds.security=on"}, "dds.security_dir = '': must be a directory made by");
+}
+
+TEST(ScenarioLoader, ANameOutsideAnEnumsTableListsTheNames) {
+  expect_error("", {"arena.shape=circle"}, "arena.shape = 'circle': must be one of ellipse, rectangle");
+  expect_error("", {"arena.encounter_model=ballistic"},
+               "arena.encounter_model = 'ballistic': must be one of physical, kinetic");
+  expect_error("", {"arena.queue=lifo"}, "arena.queue = 'lifo': must be one of finite, endless");
+  expect_error("", {"arena.influx=bursty"}, "arena.influx = 'bursty': must be one of steady, poisson");
+  expect_error("", {"dds.vendor=opensplice"},
+               "dds.vendor = 'opensplice': must be one of fastdds, cyclonedds, inmemory");
+}
+
+TEST(ScenarioKeys, TheKeysAreTheSerializedMembersInFileOrder) {
+  const auto keys = known_keys();
+  ASSERT_EQ(keys.size(), 48u);
+  EXPECT_EQ(keys.front(), "name");
+  EXPECT_EQ(keys[2], "model.lambda_p");
+  EXPECT_EQ(keys[13], "arena.encounter_model");
+  EXPECT_EQ(keys.back(), "bridge.http");
+}
+
+TEST(ScenarioJson, EveryShippedScenarioGoesToJsonAndBackUnchanged) {
+  const auto files = shipped();
+  ASSERT_FALSE(files.empty());
+  for (const auto& f : files) {
+    SCOPED_TRACE(f);
+    const auto s = load(f);
+    const auto again = parse_json(dump_json(s));
+    EXPECT_EQ(dump(again), dump(s));
+  }
+}
+
+TEST(ScenarioJson, JsonIsValidatedAsYamlIs) {
+  const auto expect_json_error = [](const std::string& json, const std::string& expected) {
+    try {
+      parse_json(json);
+      ADD_FAILURE() << "accepted: " << json;
+    } catch (const ConfigError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find(expected), std::string::npos) << what;
+      EXPECT_EQ(what.find('\n'), std::string::npos) << "not one line: " << what;
+    }
+  };
+  expect_json_error(R"({"agent": {"window": 90}})",
+                    "unknown key 'agent.window' in <json> (allowed in agent: L, dt, K_p, lambda_in, controller)");
+  expect_json_error(R"({"agnet": {"L": 90}})", "unknown key 'agnet'");
+  expect_json_error(R"({"model": {"delta": "abc"}})", "model.delta = 'abc': must be a number");
+  expect_json_error(R"({"arena": {"robots_inside": 2.5}})", "arena.robots_inside = '2.5': must be a whole number >= 0");
+  expect_json_error(R"({"arena": {"robots_inside": -1}})", "arena.robots_inside = '-1': must be a whole number >= 0");
+  expect_json_error(R"({"arena": {"shape": "circle"}})", "arena.shape = 'circle': must be one of ellipse, rectangle");
+  expect_json_error(R"({"dds": {"security": "yes"}})", "dds.security = 'yes': must be on or off");
+  expect_json_error(R"({"model": {"delta": -0.1}})", "model.delta = -0.1: must be > 0");
+  expect_json_error(R"({"model": [1, 2]})", "model in <json>: must be a mapping");
+  expect_json_error(R"({"model": {"delta": )", "<json>: malformed JSON");
+}
+
+TEST(ScenarioJson, JsonAndYamlGiveTheSameScenarioForTheSameValues) {
+  const auto from_yaml = parse("seed: 7\nagent: {dt: 0.05}\narena: {shape: rectangle, queue: endless}\nrun: {mode: realtime}\n");
+  const auto from_json = parse_json(
+      R"({"seed": 7, "agent": {"dt": 0.05}, "arena": {"shape": "rectangle", "queue": "endless"}, "run": {"mode": "realtime"}})");
+  EXPECT_EQ(dump(from_json), dump(from_yaml));
+  EXPECT_EQ(from_json.run.mode, RunMode::realtime);
+  EXPECT_DOUBLE_EQ(from_json.arena.tick_dt, 0.05);
 }
 
 TEST(ScenarioLoader, MalformedYamlNamesTheLine) {

@@ -46,13 +46,16 @@ void require_non_negative(std::string_view key, double value, std::string_view u
           "must be finite and >= 0 (" + std::string(unit) + ")");
 }
 
-[[noreturn]] void reject_name(std::string_view key, std::string_view name,
-                              std::string_view allowed) {
-  reject(key, "'" + std::string(name) + "'", "must be one of " + std::string(allowed));
+/// An enum member holds one of its named values (a loader only sets named ones; a cast may not).
+template <class E>
+void require_named(std::string_view key, E value) {
+  if (!enum_names(value).find(name_of(value))) {
+    reject(key, std::to_string(static_cast<int>(value)), "must be " + enum_names(value).allowed());
+  }
 }
 
 Domain domain_of(const WorldParams& p) {
-  return parse_domain_shape(p.shape) == DomainShape::ellipse
+  return p.shape == DomainShape::ellipse
              ? Domain::ellipse(p.semi_axis_x, p.semi_axis_y)
              : Domain::rectangle(p.width, p.height);
 }
@@ -87,30 +90,6 @@ std::string_view to_string(TaskState state) {
   return "?";
 }
 
-EncounterModel parse_encounter_model(std::string_view name) {
-  if (name == "physical") return EncounterModel::physical;
-  if (name == "kinetic") return EncounterModel::kinetic;
-  reject_name("arena.encounter_model", name, "physical, kinetic");
-}
-
-DomainShape parse_domain_shape(std::string_view name) {
-  if (name == "ellipse") return DomainShape::ellipse;
-  if (name == "rectangle") return DomainShape::rectangle;
-  reject_name("arena.shape", name, "ellipse, rectangle");
-}
-
-QueueKind parse_queue_kind(std::string_view name) {
-  if (name == "finite") return QueueKind::finite;
-  if (name == "endless") return QueueKind::endless;
-  reject_name("arena.queue", name, "finite, endless");
-}
-
-InfluxKind parse_influx_kind(std::string_view name) {
-  if (name == "steady") return InfluxKind::steady;
-  if (name == "poisson") return InfluxKind::poisson;
-  reject_name("arena.influx", name, "steady, poisson");
-}
-
 std::int64_t substeps_per_tick(const WorldParams& params) {
   return std::llround(params.tick_dt / params.physics_dt);
 }
@@ -128,10 +107,13 @@ std::uint32_t max_robots(const WorldParams& params) {
 }
 
 void WorldParams::validate() const {
-  const EncounterModel model = parse_encounter_model(encounter_model);
-  const DomainShape domain_shape = parse_domain_shape(shape);
-  const QueueKind queue_kind = parse_queue_kind(queue);
-  parse_influx_kind(influx);
+  require_named("arena.encounter_model", encounter_model);
+  require_named("arena.shape", shape);
+  require_named("arena.queue", queue);
+  require_named("arena.influx", influx);
+  const EncounterModel model = encounter_model;
+  const DomainShape domain_shape = shape;
+  const QueueKind queue_kind = queue;
 
   // Robot and model numbers first: the domain checks below use them.
   require_positive("arena.robot_radius", robot_radius, "m");

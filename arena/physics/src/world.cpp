@@ -7,7 +7,7 @@ namespace retreat::physics {
 
 std::unique_ptr<World> make_world(const WorldParams& params) {
   params.validate();
-  if (parse_encounter_model(params.encounter_model) == EncounterModel::kinetic) {
+  if (params.encounter_model == EncounterModel::kinetic) {
     return std::make_unique<detail::KineticWorld>(params);
   }
   return std::make_unique<detail::PhysicalWorld>(params);

@@ -8,7 +8,7 @@
 namespace retreat::physics::detail {
 
 Domain make_domain(const WorldParams& params) {
-  return parse_domain_shape(params.shape) == DomainShape::ellipse
+  return params.shape == DomainShape::ellipse
              ? Domain::ellipse(params.semi_axis_x, params.semi_axis_y)
              : Domain::rectangle(params.width, params.height);
 }
@@ -17,8 +17,8 @@ WorldBase::WorldBase(const WorldParams& params)
     : params_(params),
       domain_(make_domain(params)),
       world_rng_(retreat::seed_for(params.seed, -1, retreat::Stream::world)),
-      influx_(parse_influx_kind(params.influx), params.lambda_in * domain_.area(), world_rng_),
-      queue_kind_(parse_queue_kind(params.queue)) {}
+      influx_(params.influx, params.lambda_in * domain_.area(), world_rng_),
+      queue_kind_(params.queue) {}
 
 void WorldBase::init_population() {
   for (std::uint32_t i = 0; i < params_.robots_inside; ++i) {

@@ -363,7 +363,8 @@ json report_data(const std::string& dir) {
                   {"delta", s.model.delta},       {"v", s.model.v},               {"rho", s.model.rho}};
   out["agent"] = {{"L", s.agent.L}, {"K_p", s.agent.K_p}, {"lambda_in", s.agent.lambda_in},
                   {"controller", s.agent.controller}};
-  out["arena"] = {{"encounter_model", s.arena.encounter_model}, {"shape", s.arena.shape},
+  out["arena"] = {{"encounter_model", std::string(retreat::name_of(s.arena.encounter_model))},
+                  {"shape", std::string(retreat::name_of(s.arena.shape))},
                   {"robots_inside", s.arena.robots_inside}, {"robots_waiting", s.arena.robots_waiting}};
   return out;
 }

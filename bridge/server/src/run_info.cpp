@@ -7,18 +7,18 @@ namespace retreat::bridge {
 
 telemetry::RunInfo run_info(const scenario::Scenario& s) {
   const auto& a = s.arena;
-  const bool ellipse = a.shape == "ellipse";
+  const bool ellipse = a.shape == physics::DomainShape::ellipse;
   const auto domain = ellipse ? physics::Domain::ellipse(a.semi_axis_x, a.semi_axis_y)
                               : physics::Domain::rectangle(a.width, a.height);
   telemetry::RunInfo r;
   r.scenario = s.name;
-  r.mode = s.run.mode;
-  r.shape = a.shape;
+  r.mode = retreat::name_of(s.run.mode);
+  r.shape = retreat::name_of(a.shape);
   r.half_x = domain.half_extent().x();
   r.half_y = domain.half_extent().y();
   r.area = domain.area();
   r.lambda_star = model::lambda_star(s.model);
-  r.encounter_model = a.encounter_model;
+  r.encounter_model = retreat::name_of(a.encounter_model);
   r.robot_radius = a.robot_radius;
   r.delta = s.model.delta;
   r.robots = a.robots_inside + a.robots_waiting;

@@ -18,10 +18,10 @@ using retreat::physics::WorldParams;
 
 constexpr double density = 2.0;  // robots/m²
 
-WorldParams world_of(std::int64_t robots, const char* model) {
+WorldParams world_of(std::int64_t robots, retreat::physics::EncounterModel model) {
   WorldParams p;
   p.encounter_model = model;
-  p.shape = "rectangle";
+  p.shape = retreat::physics::DomainShape::rectangle;
   p.width = std::sqrt(static_cast<double>(robots) / density);
   p.height = p.width;
   p.robots_inside = static_cast<std::uint32_t>(robots);
@@ -33,7 +33,7 @@ WorldParams world_of(std::int64_t robots, const char* model) {
 }
 
 void physical_step(benchmark::State& state) {
-  auto world = retreat::physics::make_world(world_of(state.range(0), "physical"));
+  auto world = retreat::physics::make_world(world_of(state.range(0), retreat::physics::EncounterModel::physical));
   for (int k = 0; k < 100; ++k) {  // leave the initial placement behind
     world->step_tick();
   }
@@ -47,7 +47,7 @@ void physical_step(benchmark::State& state) {
 }
 
 void kinetic_tick(benchmark::State& state) {
-  auto world = retreat::physics::make_world(world_of(state.range(0), "kinetic"));
+  auto world = retreat::physics::make_world(world_of(state.range(0), retreat::physics::EncounterModel::kinetic));
   for (auto _ : state) {
     world->step_tick();
   }

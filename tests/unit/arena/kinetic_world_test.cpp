@@ -15,8 +15,8 @@ constexpr double pi = 3.14159265358979323846;
 
 WorldParams kinetic(std::uint32_t robots, double area) {
   WorldParams p;
-  p.encounter_model = "kinetic";
-  p.shape = "rectangle";
+  p.encounter_model = EncounterModel::kinetic;
+  p.shape = DomainShape::rectangle;
   p.width = std::sqrt(area);
   p.height = p.width;
   p.robots_inside = robots;

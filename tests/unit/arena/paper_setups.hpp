@@ -18,8 +18,8 @@ namespace retreat::physics::testing {
 /// 2δ/v, boundary_gain = 0.5/physics_dt.
 inline WorldParams encounter_validation(std::uint32_t robots, double lambda, double v = 1.0) {
   WorldParams p;
-  p.encounter_model = "physical";
-  p.shape = "rectangle";
+  p.encounter_model = EncounterModel::physical;
+  p.shape = DomainShape::rectangle;
   p.width = std::sqrt(robots / lambda);
   p.height = p.width;
   p.robots_inside = robots;

@@ -31,18 +31,19 @@ std::string message_of(const WorldParams& p) {
 TEST(PhysicsParams, DefaultsAreValidForBothEncounterModels) {
   WorldParams p;
   EXPECT_NO_THROW(p.validate());
-  p.encounter_model = "kinetic";
+  p.encounter_model = EncounterModel::kinetic;
   EXPECT_NO_THROW(p.validate());
 }
 
 TEST(PhysicsParams, EachInvalidFieldIsRejectedWithItsKeyAndValue) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const std::vector<BadCase> cases = {
-      {"arena.encounter_model = 'ballistic':",
-       [](WorldParams& p) { p.encounter_model = "ballistic"; }},
-      {"arena.shape = 'hexagon':", [](WorldParams& p) { p.shape = "hexagon"; }},
-      {"arena.queue = 'lifo':", [](WorldParams& p) { p.queue = "lifo"; }},
-      {"arena.influx = 'bursty':", [](WorldParams& p) { p.influx = "bursty"; }},
+      // Names are checked by the scenario loader; here only a value cast outside the enum.
+      {"arena.encounter_model = 9:",
+       [](WorldParams& p) { p.encounter_model = static_cast<EncounterModel>(9); }},
+      {"arena.shape = 9:", [](WorldParams& p) { p.shape = static_cast<DomainShape>(9); }},
+      {"arena.queue = 9:", [](WorldParams& p) { p.queue = static_cast<QueueKind>(9); }},
+      {"arena.influx = 9:", [](WorldParams& p) { p.influx = static_cast<InfluxKind>(9); }},
       {"arena.robot_radius = 0:", [](WorldParams& p) { p.robot_radius = 0; }},
       {"arena.robot_radius = nan:", [nan](WorldParams& p) { p.robot_radius = nan; }},
       {"model.delta = -0.1:", [](WorldParams& p) { p.delta = -0.1; }},
@@ -60,7 +61,7 @@ TEST(PhysicsParams, EachInvalidFieldIsRejectedWithItsKeyAndValue) {
        [](WorldParams& p) { p.lambda_d = std::numeric_limits<double>::infinity(); }},
       {"model.rho = 0:",
        [](WorldParams& p) {
-         p.encounter_model = "kinetic";
+         p.encounter_model = EncounterModel::kinetic;
          p.rho = 0;
        }},
       {"arena.tick_dt = 0:", [](WorldParams& p) { p.tick_dt = 0; }},
@@ -81,19 +82,19 @@ TEST(PhysicsParams, EachInvalidFieldIsRejectedWithItsKeyAndValue) {
       {"arena.semi_axis_y = 0.1:", [](WorldParams& p) { p.semi_axis_y = 0.1; }},  // too small
       {"arena.width = -3:",
        [](WorldParams& p) {
-         p.shape = "rectangle";
+         p.shape = DomainShape::rectangle;
          p.width = -3;
        }},
       {"arena.height = 0.2:",
        [](WorldParams& p) {
-         p.shape = "rectangle";
+         p.shape = DomainShape::rectangle;
          p.height = 0.2;
        }},
       {"arena.robots_inside = 500:", [](WorldParams& p) { p.robots_inside = 500; }},
       {"arena.robots_waiting = 400:", [](WorldParams& p) { p.robots_waiting = 400; }},
       {"arena.robots_waiting = 0:",
        [](WorldParams& p) {
-         p.queue = "endless";
+         p.queue = QueueKind::endless;
          p.robots_waiting = 0;
        }},
       {"arena.robots_inside = 0:",
@@ -125,7 +126,7 @@ TEST(PhysicsParams, MessagesStateTheAllowedRange) {
 
 TEST(PhysicsParams, AnEndlessQueueDoesNotCountWaitingRobotsAgainstTheDomain) {
   WorldParams p;
-  p.queue = "endless";
+  p.queue = QueueKind::endless;
   p.robots_waiting = 400;
   EXPECT_NO_THROW(p.validate());
 }

@@ -27,7 +27,7 @@ struct SafetyReport {
 /// after every step with an independent brute-force pass over poses().
 SafetyReport run(const WorldParams& p, int steps, int retreat_every) {
   SafetyReport report;
-  const Domain domain = p.shape == "ellipse" ? Domain::ellipse(p.semi_axis_x, p.semi_axis_y)
+  const Domain domain = p.shape == DomainShape::ellipse ? Domain::ellipse(p.semi_axis_x, p.semi_axis_y)
                                              : Domain::rectangle(p.width, p.height);
   auto world = make_world(p);
   RobotId next_to_retreat = 0;
@@ -65,13 +65,13 @@ SafetyReport run(const WorldParams& p, int steps, int retreat_every) {
 
 WorldParams dense(const std::string& shape) {
   WorldParams p;  // Robotarium defaults: v = 0.1, γ = 10⁴, D_s = 0.13, dt = 0.01
-  p.shape = shape;
+  p.shape = *value_of<DomainShape>(shape);
   p.semi_axis_x = 1.6;
   p.semi_axis_y = 1.0;
   p.width = 3.0;
   p.height = 2.0;
   p.tick_dt = p.physics_dt;
-  p.queue = "endless";
+  p.queue = QueueKind::endless;
   p.robots_waiting = 2;
   p.lambda_in = 0.2;  // about one entry per 1.0–1.2 s
   p.tumble_rate = 0.2;

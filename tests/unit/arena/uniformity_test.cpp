@@ -131,7 +131,7 @@ double chi2_critical_0001(int k) {
 
 WorldParams walk_world(const std::string& shape) {
   WorldParams p;  // Robotarium defaults, 4 robots
-  p.shape = shape;
+  p.shape = *value_of<DomainShape>(shape);
   p.semi_axis_x = 1.5;
   p.semi_axis_y = 1.0;
   p.width = 3.0;

@@ -16,7 +16,7 @@ class PhysicsWorld : public ::testing::TestWithParam<std::string> {
   /// The Robotarium experiment: 8 robots inside, 4 waiting, λ_in·|D| = 0.0603 robots/s.
   WorldParams robotarium() const {
     WorldParams p;
-    p.encounter_model = GetParam();
+    p.encounter_model = *value_of<EncounterModel>(GetParam());
     return p;
   }
   static void run_for(World& world, double seconds) {
@@ -65,7 +65,7 @@ TEST_P(PhysicsWorld, AFiniteQueueEmptiesAtTheInfluxRate) {
 
 TEST_P(PhysicsWorld, AnEndlessQueueCreatesANewRobotForEachEntry) {
   WorldParams p = robotarium();
-  p.queue = "endless";
+  p.queue = QueueKind::endless;
   p.robots_waiting = 2;
   p.lambda_in = 0.1;  // 0.3 robots/s
   auto world = make_world(p);

@@ -132,7 +132,7 @@ TEST(IncludePolicy, TheScannerFindsEveryPlantedViolationAndNothingElse) {
   plant(root, "idl/cyclonedds/src/adapter.cpp", {inc("dds/dds.h"), inc("retreat_msgs.h", true)});
   plant(root, "agent/program/main.cpp", {inc("CLI/CLI.hpp"), inc("yaml-cpp/yaml.h")});
   plant(root, "bridge/http/server.cpp", {inc("httplib.h", true), inc("nlohmann/json.hpp")});
-  plant(root, "idl/scenario/src/scenario.cpp", {inc("yaml-cpp/yaml.h")});
+  plant(root, "deploy/config/scenario/src/scenario.cpp", {inc("yaml-cpp/yaml.h")});
   plant(root, "agent/model/src/model.cpp",
         {inc("Eigen/Dense"), inc("retreat/wire/messages.hpp", true),
          "// " + inc("fastdds/not_an_include.hpp")});

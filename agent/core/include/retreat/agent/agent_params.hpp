@@ -21,6 +21,16 @@ struct AgentParams {
   ///         `agent.dt = 100: must be > 0 and <= agent.L (90) (s)` or
   ///         `agent.controller = 'foo': must be one of paper`.
   void validate() const;
+
+  /// Visits the `agent.*` keys in scenario-file order, `a(name, member)` (Drake's Serialize()).
+  template <class Archive>
+  void serialize(Archive& a) {
+    a("L", L);
+    a("dt", dt);
+    a("K_p", K_p);
+    a("lambda_in", lambda_in);
+    a("controller", controller);
+  }
 };
 
 }  // namespace retreat::agent

@@ -19,6 +19,17 @@ struct ModelParams {
   ///         the scenario file, its value and the valid range, e.g.
   ///         `model.delta = -0.1: must be > 0 (m)`.
   void validate() const;
+
+  /// Visits the `model.*` keys in scenario-file order, `a(name, member)` (Drake's Serialize()).
+  template <class Archive>
+  void serialize(Archive& a) {
+    a("lambda_p", lambda_p);
+    a("lambda_d", lambda_d);
+    a("C", C);
+    a("delta", delta);
+    a("v", v);
+    a("rho", rho);
+  }
 };
 
 }  // namespace retreat::model

@@ -8,28 +8,42 @@
 #include <string>
 #include <string_view>
 
+#include "retreat/core/enum_names.hpp"
+
 namespace retreat::physics {
 
-/// How encounters are produced.
+/// How encounters are produced (`arena.encounter_model`).
 enum class EncounterModel {
   physical,  ///< unicycles, random walk, barrier certificates; encounters are geometric
   kinetic,   ///< no positions; encounters, contacts and task events are Poisson processes
 };
+constexpr EnumNames<EncounterModel, 2> enum_names(EncounterModel) {
+  return {{{{EncounterModel::physical, "physical"}, {EncounterModel::kinetic, "kinetic"}}}};
+}
 
-/// Shape of the domain D (centred on the origin, axes aligned).
+/// Shape of the domain D (centred on the origin, axes aligned) (`arena.shape`).
 enum class DomainShape { ellipse, rectangle };
+constexpr EnumNames<DomainShape, 2> enum_names(DomainShape) {
+  return {{{{DomainShape::ellipse, "ellipse"}, {DomainShape::rectangle, "rectangle"}}}};
+}
 
-/// What happens when the waiting robots have all entered.
+/// What happens when the waiting robots have all entered (`arena.queue`).
 enum class QueueKind {
   finite,   ///< robots_waiting robots, then no more
   endless,  ///< robots_waiting robots are always queued; each entry creates a new robot id
 };
+constexpr EnumNames<QueueKind, 2> enum_names(QueueKind) {
+  return {{{{QueueKind::finite, "finite"}, {QueueKind::endless, "endless"}}}};
+}
 
-/// Arrival process of waiting robots.
+/// Arrival process of waiting robots (`arena.influx`).
 enum class InfluxKind {
   steady,   ///< one arrival every 1/(λ_in·|D|) seconds
   poisson,  ///< Poisson arrivals at rate λ_in·|D|
 };
+constexpr EnumNames<InfluxKind, 2> enum_names(InfluxKind) {
+  return {{{{InfluxKind::steady, "steady"}, {InfluxKind::poisson, "poisson"}}}};
+}
 
 /// Parameters of a world. Defaults: the paper's Robotarium experiment (MODEL.md §6) with the
 /// Robotarium's platform numbers. Field names are the scenario keys: `arena.<field>` except the
@@ -45,16 +59,16 @@ enum class InfluxKind {
 /// simulator's 100. Scale γ with v (10⁵ at v = 1) to keep the same geometry.
 struct WorldParams {
   // --- arena: what is simulated ---------------------------------------------------------------
-  std::string encounter_model = "physical";  ///< `physical` or `kinetic`
-  std::string shape = "ellipse";             ///< `ellipse` or `rectangle`
+  EncounterModel encounter_model = EncounterModel::physical;
+  DomainShape shape = DomainShape::ellipse;
   double semi_axis_x = 1.2;                  ///< ellipse semi-axis along x [m]
   double semi_axis_y = 0.8;                  ///< ellipse semi-axis along y [m]
   double width = 3.2;                        ///< rectangle extent along x [m]
   double height = 2.0;                       ///< rectangle extent along y [m]
   std::uint32_t robots_inside = 8;           ///< robots in D at t = 0 (ids 0 .. robots_inside-1)
   std::uint32_t robots_waiting = 4;          ///< robots queued outside at t = 0 (the next ids)
-  std::string queue = "finite";              ///< `finite` or `endless`
-  std::string influx = "steady";             ///< `steady` or `poisson`
+  QueueKind queue = QueueKind::finite;
+  InfluxKind influx = InfluxKind::steady;
   double lambda_in = 0.02;  ///< λ_in: influx [robots/(m²·s)]; arrivals λ_in·|D| per s
 
   // --- arena: time ------------------------------------------------------------------------------
@@ -92,21 +106,40 @@ struct WorldParams {
   ///         allowed range, e.g. `arena.physics_dt = 0.007: must divide arena.tick_dt (0.03 s) into
   ///         a whole number of steps`.
   void validate() const;
+
+  /// Visits the `arena.*` keys in scenario-file order (the Drake `Serialize()` idiom): the
+  /// archive is called as `a(name, member)`. The copies of `model.*` and `agent.*` values and
+  /// the seed are not keys: the scenario's resolve() fills them.
+  template <class Archive>
+  void serialize(Archive& a) {
+    a("encounter_model", encounter_model);
+    a("shape", shape);
+    a("semi_axis_x", semi_axis_x);
+    a("semi_axis_y", semi_axis_y);
+    a("width", width);
+    a("height", height);
+    a("robots_inside", robots_inside);
+    a("robots_waiting", robots_waiting);
+    a("queue", queue);
+    a("influx", influx);
+    a("physics_dt", physics_dt);
+    a("robot_radius", robot_radius);
+    a("max_speed", max_speed);
+    a("max_turn_rate", max_turn_rate);
+    a("gamma", gamma);
+    a("safety_distance", safety_distance);
+    a("projection_distance", projection_distance);
+    a("boundary_gain", boundary_gain);
+    a("tumble_rate", tumble_rate);
+    a("unblock_time", unblock_time);
+    a("record_encounters", record_encounters);
+  }
 };
 
 /// Maximal robot count a world accepts: the robots' safety discs (diameter D_s) may cover at most
 /// 40 % of the walkable area (D shrunk by r + l). Random sequential placement reaches 40 %
 /// quickly; its jamming limit is 54.7 %.
 std::uint32_t max_robots(const WorldParams& params);
-
-/// Parses `physical` / `kinetic`. @throws std::invalid_argument naming `arena.encounter_model`.
-EncounterModel parse_encounter_model(std::string_view name);
-/// Parses `ellipse` / `rectangle`. @throws std::invalid_argument naming `arena.shape`.
-DomainShape parse_domain_shape(std::string_view name);
-/// Parses `finite` / `endless`. @throws std::invalid_argument naming `arena.queue`.
-QueueKind parse_queue_kind(std::string_view name);
-/// Parses `steady` / `poisson`. @throws std::invalid_argument naming `arena.influx`.
-InfluxKind parse_influx_kind(std::string_view name);
 
 /// Physics substeps per tick, round(tick_dt / physics_dt). Precondition: validate() passed.
 std::int64_t substeps_per_tick(const WorldParams& params);

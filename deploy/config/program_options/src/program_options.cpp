@@ -80,8 +80,7 @@ transport::ParticipantOptions participant_options(const Scenario& s, std::string
   options.name = std::move(name);
   options.user_data = std::move(user_data);
   options.profile = s.dds.profile;
-  if (s.dds.security == "on")
-    options.security = transport::swarm_identity(s.dds.security_dir, identity);
+  if (s.dds.security == Security::on) options.security = transport::swarm_identity(s.dds.security_dir, identity);
   return options;
 }
 
