@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The test command: installs what is missing, builds, and runs every test (unit, contract,
 # integration, scenario, package) with CTest, then a deterministic run of every fuzzer
-# (tests/fuzz: fixed seed, fixed number of inputs). Exit code 0 only if every test passed.
+# (tests/fuzz: fixed seed, fixed number of inputs), then the golden trajectories from a Clang and
+# libc++ build of the core (tests/portability). Exit code 0 only if every test passed.
 # No test passes or fails by wall-clock speed: the whole command holds on a loaded machine.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -19,4 +20,13 @@ cmake -S "$root" -B "$fuzz" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C
   -DRETREAT_BUILD_BENCHMARKS=OFF -DRETREAT_WEB_DEPS_DIR="$build/web-deps" >/dev/null
 cmake --build "$fuzz" -j2 --target retreat_fuzzers
 ctest --test-dir "$fuzz" -j2 -L fuzz --output-on-failure --no-tests=error || status=$?
+# Portability stage (docs/conventions.md, "Determinism"): the in-memory core built with Clang and
+# libc++ (no DDS, yaml-cpp or HTTP) runs the golden cases from their JSON scenarios and must give
+# the GCC and libstdc++ build's recorded trajectory hashes.
+libcxx=${RETREAT_LIBCXX_BUILD_DIR:-$build-libcxx}
+cmake -S "$root" -B "$libcxx" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang \
+  -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_CXX_FLAGS=-stdlib=libc++ -DCMAKE_EXE_LINKER_FLAGS=-stdlib=libc++ \
+  -DRETREAT_PORTABILITY_ONLY=ON >/dev/null
+cmake --build "$libcxx" -j2
+ctest --test-dir "$libcxx" -j2 -L portability --output-on-failure --no-tests=error || status=$?
 exit $status

@@ -1,4 +1,4 @@
-#include "agent_node.hpp"
+#include "retreat/agent/agent_node.hpp"
 
 #include <cmath>
 #include <cstdio>

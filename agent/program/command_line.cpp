@@ -1,4 +1,4 @@
-#include "command_line.hpp"
+#include "retreat/agent/command_line.hpp"
 
 #include <string>
 

@@ -12,8 +12,8 @@
 #include <iostream>
 #include <variant>
 
-#include "agent_node.hpp"
-#include "command_line.hpp"
+#include "retreat/agent/agent_node.hpp"
+#include "retreat/agent/command_line.hpp"
 #include "retreat/scenario/program_options.hpp"
 #include "retreat/transport/factory.hpp"
 

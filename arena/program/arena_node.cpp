@@ -1,7 +1,8 @@
-#include "arena_node.hpp"
+#include "retreat/arena/arena_node.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <thread>
 
 #include "retreat/wire/topics.hpp"
 

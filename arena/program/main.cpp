@@ -18,8 +18,8 @@
 #include <thread>
 #include <variant>
 
-#include "arena_node.hpp"
-#include "command_line.hpp"
+#include "retreat/arena/arena_node.hpp"
+#include "retreat/arena/command_line.hpp"
 #include "retreat/scenario/program_options.hpp"
 #include "retreat/transport/factory.hpp"
 
@@ -41,7 +41,7 @@ int main(int argc, char** argv) {
   scenario::install_stop_handlers();
   try {
     std::unique_ptr<arena::RunRecorder> recorder;
-    if (!out_dir.empty()) recorder = std::make_unique<arena::RunRecorder>(out_dir, s, resume);
+    if (!out_dir.empty()) recorder = std::make_unique<arena::RunRecorder>(out_dir, s, scenario::dump(s), resume);
     auto transport = transport::make_transport(
         retreat::name_of(s.dds.vendor), scenario::participant_options(s, "retreat-arena", "retreat:arena", "arena"));
     arena::ArenaNode node(s, *transport, recorder.get());

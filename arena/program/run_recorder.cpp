@@ -1,4 +1,4 @@
-#include "run_recorder.hpp"
+#include "retreat/arena/run_recorder.hpp"
 
 #include <openssl/evp.h>
 
@@ -68,7 +68,8 @@ std::vector<std::string> complete_lines(const std::string& path) {
 
 }  // namespace
 
-RunRecorder::RunRecorder(const std::string& dir, const scenario::Scenario& scenario, bool resume)
+RunRecorder::RunRecorder(const std::string& dir, const scenario::Scenario& scenario,
+                         const std::string& scenario_yaml, bool resume)
     : dir_(dir), scenario_(scenario) {
   std::error_code ec;
   std::filesystem::create_directories(dir_, ec);
@@ -85,7 +86,7 @@ RunRecorder::RunRecorder(const std::string& dir, const scenario::Scenario& scena
     }
     if (scenario.arena.record_encounters) complete_lines(dir_ + "/encounters.csv");
   } else {
-    std::ofstream(dir_ + "/scenario.yaml") << scenario::dump(scenario);
+    std::ofstream(dir_ + "/scenario.yaml") << scenario_yaml;
   }
   const bool fresh = !resume || resumable_tick_ == 0;
   telemetry_.open(dir_ + "/telemetry.csv", fresh ? std::ios::out | std::ios::trunc : mode);

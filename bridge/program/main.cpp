@@ -28,7 +28,7 @@
 #include <thread>
 #include <variant>
 
-#include "command_line.hpp"
+#include "retreat/bridge/command_line.hpp"
 #include "retreat/bridge/address.hpp"
 #include "retreat/bridge/live_state.hpp"
 #include "retreat/bridge/receiver.hpp"

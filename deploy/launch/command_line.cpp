@@ -1,4 +1,4 @@
-#include "command_line.hpp"
+#include "retreat/launch/command_line.hpp"
 
 #include "retreat/scenario/program_options.hpp"
 

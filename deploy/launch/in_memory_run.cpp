@@ -1,4 +1,4 @@
-#include "in_memory_run.hpp"
+#include "retreat/launch/in_memory_run.hpp"
 
 #include <chrono>
 #include <map>
@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "agent_node.hpp"
+#include "retreat/agent/agent_node.hpp"
 #include "retreat/transport/inmemory.hpp"
 
 namespace retreat::launch {

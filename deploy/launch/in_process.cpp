@@ -3,7 +3,8 @@
 
 #include <chrono>
 
-#include "in_memory_run.hpp"
+#include "retreat/launch/in_memory_run.hpp"
+#include "retreat/scenario/scenario.hpp"
 #include "progress.hpp"
 #include "run.hpp"
 #include "summary.hpp"
@@ -16,7 +17,7 @@ RunOutcome run_in_process(const Plan& plan, std::uint64_t seed, const std::strin
   auto s = scenario::load(plan.options.scenario_path, overrides_for_seed(plan, seed));
   s.dds.vendor = scenario::Vendor::inmemory;  // what scenario.yaml in the run directory records
 
-  arena::RunRecorder recorder(dir, s);
+  arena::RunRecorder recorder(dir, s, scenario::dump(s));
   const auto keep_going = [] { return stop_signal.load() == 0; };
   ProgressLine progress(s.name + " seed " + std::to_string(seed) + " in-process", s.run.duration);
   const auto show_progress = [&](const arena::ArenaNode& arena, double wall) {

@@ -25,9 +25,9 @@
 #include <iostream>
 #include <variant>
 
-#include "command_line.hpp"
+#include "retreat/launch/command_line.hpp"
 #include "domain_lock.hpp"
-#include "options.hpp"
+#include "retreat/launch/options.hpp"
 #include "retreat/core/paths.hpp"
 #include "retreat/scenario/program_options.hpp"
 #include "run.hpp"

@@ -1,4 +1,4 @@
-#include "options.hpp"
+#include "retreat/launch/options.hpp"
 
 #include "retreat/core/paths.hpp"
 

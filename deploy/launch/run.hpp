@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "options.hpp"
+#include "retreat/launch/options.hpp"
 
 namespace retreat::launch {
 

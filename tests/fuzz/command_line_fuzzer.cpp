@@ -14,10 +14,10 @@
 #include <variant>
 #include <vector>
 
-#include "agent/program/command_line.hpp"
-#include "arena/program/command_line.hpp"
-#include "bridge/program/command_line.hpp"
-#include "deploy/launch/command_line.hpp"
+#include "retreat/agent/command_line.hpp"
+#include "retreat/arena/command_line.hpp"
+#include "retreat/bridge/command_line.hpp"
+#include "retreat/launch/command_line.hpp"
 
 namespace {
 

@@ -1,32 +1,46 @@
-// Golden trajectories: the paper's controller on the shipped Robotarium scenario, seed 1, gives
-// exactly these decisions, and it still does with the other named controllers registered beside
-// it (its hash was recorded before they existed). The other controllers are pinned the same way. A change to the algorithm, the estimator, the seeding or the world
-// that alters any decision changes the hash and fails here; such a change must be deliberate
-// and the hashes re-recorded in the same commit, with the reason.
+// Golden trajectories: the shipped Robotarium scenario, seed 1, run in process by the launcher,
+// gives exactly the recorded decisions, for the paper's controller in both worlds and for every
+// other named controller (tests/scenario/golden_hashes.json, one case each). A change to the
+// algorithm, the estimator, the seeding, the generators or the world that alters any decision
+// changes a hash and fails here; such a change must be deliberate and the hashes re-recorded in
+// the same commit, with the reason. The same hashes come out of the multi-process runs over
+// Fast DDS, Cyclone DDS and mixed (tests/integration/launch_runs_test) and, read as JSON, out of
+// a Clang + libc++ build (tests/portability, run by deploy/test.sh).
 //
-// Recorded with: retreat-launch deploy/scenarios/robotarium-2019.yaml --in-process
-//                [--set arena.encounter_model=kinetic]; the same hashes come out of the
-// multi-process runs over Fast DDS, Cyclone DDS and mixed (tests/integration/launch_runs_test).
+// Recorded with: retreat-launch deploy/scenarios/robotarium-2019.yaml --in-process [--set ...]
+// Last re-recorded when the agent's coin became counter_uniform(key, step k) (issue 12): the
+// std::uniform_real_distribution over std::mt19937_64 it replaced gave other values with libc++.
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
-#include <string>
-#include <utility>
-#include <vector>
 #include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
 
+#include "retreat/scenario/json.hpp"
+#include "retreat/scenario/scenario.hpp"
 #include "retreat/testing/process.hpp"
 
 namespace {
 
-using namespace std::chrono_literals;
+const std::string robotarium = std::string(RETREAT_SCENARIOS) + "/robotarium-2019.yaml";
 
-nlohmann::json run_in_process(const std::string& tag, const std::vector<std::string>& extra) {
-  const std::string out = ::testing::TempDir() + "/golden_" + tag;
-  std::vector<std::string> argv = {RETREAT_LAUNCH_BIN, std::string(RETREAT_SCENARIOS) + "/robotarium-2019.yaml",
-                                   "--in-process", "--no-bridge", "--out", out};
-  argv.insert(argv.end(), extra.begin(), extra.end());
+nlohmann::json golden_cases() {
+  std::ifstream in(RETREAT_GOLDEN_HASHES);
+  return nlohmann::json::parse(in).at("cases");
+}
+
+std::vector<std::string> overrides_of(const nlohmann::json& c) {
+  return c.at("set").get<std::vector<std::string>>();
+}
+
+nlohmann::json run_in_process(const std::string& name, const std::vector<std::string>& overrides) {
+  const std::string out = ::testing::TempDir() + "/golden_" + name;
+  std::filesystem::remove_all(out);
+  std::vector<std::string> argv = {RETREAT_LAUNCH_BIN, robotarium, "--in-process", "--no-bridge", "--out", out};
+  for (const auto& o : overrides) argv.insert(argv.end(), {"--set", o});
   retreat::testing::ChildProcess launch(argv, out + ".log");
   const auto code = launch.wait_for(retreat::testing::hang_ceiling);
   EXPECT_EQ(code.value_or(-1), 0) << retreat::testing::read_file(out + ".log");
@@ -34,36 +48,59 @@ nlohmann::json run_in_process(const std::string& tag, const std::vector<std::str
   return in.good() ? nlohmann::json::parse(in) : nlohmann::json{};
 }
 
-TEST(GoldenTrajectory, ThePaperControllerInThePhysicalWorldDecidesExactlyAsRecorded) {
-  const auto j = run_in_process("physical", {});
-  ASSERT_FALSE(j.empty());
-  EXPECT_EQ(j["controller"], "paper");
-  EXPECT_EQ(j["ticks"], 40000);
-  EXPECT_EQ(j["agents"]["retreated"], 9);
-  EXPECT_EQ(j["trajectory_sha256"], "3be7e02c4784b848d2eea1ebb685a62996e608684d60cc30dea443787c9a5775");
+class GoldenTrajectory : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(GoldenTrajectory, TheLauncherInProcessDecidesExactlyAsRecorded) {
+  for (const auto& c : golden_cases()) {
+    if (c.at("name") != GetParam()) continue;
+    const auto j = run_in_process(GetParam(), overrides_of(c));
+    ASSERT_FALSE(j.empty());
+    EXPECT_EQ(j["controller"], c.at("controller"));
+    EXPECT_EQ(j["ticks"], 40000);
+    EXPECT_EQ(j["agents"]["retreated"], c.at("retreated"));
+    EXPECT_EQ(j["trajectory_sha256"], c.at("trajectory_sha256"));
+    return;
+  }
+  FAIL() << "no case " << GetParam();
 }
 
-TEST(GoldenTrajectory, ThePaperControllerInTheKineticWorldDecidesExactlyAsRecorded) {
-  const auto j = run_in_process("kinetic", {"--set", "arena.encounter_model=kinetic"});
-  ASSERT_FALSE(j.empty());
-  EXPECT_EQ(j["agents"]["retreated"], 10);
-  EXPECT_EQ(j["trajectory_sha256"], "ecaf0f46231bf053d5bbf666ce3bb7918d9d004501126e92ab72ca3ad848a830");
+// The portability check reads each case's resolved scenario as JSON: it must be exactly what
+// the YAML scenario with the case's overrides resolves to (written to the build tree when not,
+// to be copied into tests/portability/scenarios after a deliberate change).
+TEST_P(GoldenTrajectory, ThePortabilityChecksJsonScenarioIsTheYamlOneResolved) {
+  for (const auto& c : golden_cases()) {
+    if (c.at("name") != GetParam()) continue;
+    const auto expected = retreat::scenario::dump_json(retreat::scenario::load(robotarium, overrides_of(c)));
+    const auto committed = retreat::testing::read_file(std::string(RETREAT_PORTABILITY_SCENARIOS) + "/" +
+                                                       GetParam() + ".json");
+    if (committed != expected) {
+      const auto path = ::testing::TempDir() + "/" + GetParam() + ".json";
+      std::ofstream(path) << expected;
+      ADD_FAILURE() << "tests/portability/scenarios/" << GetParam() << ".json differs from the YAML "
+                    << "scenario resolved; the resolved one is in " << path;
+    }
+    return;
+  }
+  FAIL() << "no case " << GetParam();
 }
 
-// The improved controllers (agent/core, docs/experiments.md), recorded when they were added.
-TEST(GoldenTrajectory, EveryOtherNamedControllerDecidesExactlyAsRecorded) {
-  const std::vector<std::pair<std::string, std::string>> recorded = {
-      {"confident", "b53727c777bc1cdde85310d209b043c807b9e7a38050a01c0da67fe503e0a65e"},
-      {"influx-aware", "8f337b7af68924c528d04e7b4b561094890fe0f94b08244976316f0ba25f373f"},
-      {"confident-influx-aware", "12c8e998de4fae7f4d293e5468c4f1c7d2e168a9b1f280cc31dd77ff0c1508c8"},
-  };
-  for (const auto& [controller, hash] : recorded) {
-    const auto j = run_in_process(controller, {"--set", "agent.controller=" + controller});
-    ASSERT_FALSE(j.empty()) << controller;
-    EXPECT_EQ(j["controller"], controller);
-    EXPECT_EQ(j["trajectory_sha256"], hash) << controller;
-    EXPECT_NE(j["trajectory_sha256"], "3be7e02c4784b848d2eea1ebb685a62996e608684d60cc30dea443787c9a5775")
-        << controller << " decides exactly like paper";
+INSTANTIATE_TEST_SUITE_P(Case, GoldenTrajectory,
+                         ::testing::Values("paper-physical", "paper-kinetic", "confident", "influx-aware",
+                                           "confident-influx-aware"),
+                         [](const auto& test) {
+                           std::string name = test.param;
+                           for (auto& ch : name) ch = ch == '-' ? '_' : ch;
+                           return name;
+                         });
+
+TEST(GoldenTrajectory, EveryRecordedControllerDecidesUnlikePaper) {
+  std::string paper;
+  for (const auto& c : golden_cases()) {
+    if (c.at("name") == "paper-physical") paper = c.at("trajectory_sha256");
+  }
+  ASSERT_FALSE(paper.empty());
+  for (const auto& c : golden_cases()) {
+    if (c.at("controller") != "paper") EXPECT_NE(c.at("trajectory_sha256"), paper) << c.at("name");
   }
 }
 

@@ -2,7 +2,12 @@
 //   * only the vendor adapters (idl/fastdds/, idl/cyclonedds/) include Fast DDS, Fast CDR or
 //     Cyclone DDS headers, or the code generated from the IDL by either vendor;
 //   * the pure libraries (agent/model, agent/core, arena/physics, idl/wire, idl/transport,
-//     idl/core) include none of the program plumbing: yaml-cpp, CLI11, cpp-httplib, nlohmann json.
+//     idl/core) include none of the program plumbing: yaml-cpp, CLI11, cpp-httplib, nlohmann json;
+//   * no arrow runs back up: the rooms have an order (rooms(), bottom first, as the root
+//     CMakeLists.txt adds them), and a room includes `retreat/...` headers only from rooms
+//     below it (rooms on one level do not include each other). A header is placed by where
+//     its file is (`<room>/.../include/<header>`), so a name shared by two rooms' include
+//     directories (`retreat/agent/`) is told apart.
 // The scanner is checked on a planted tree first, so that a scanner that finds nothing cannot
 // pass for a clean source tree.
 
@@ -10,11 +15,13 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <ostream>
 #include <regex>
 #include <set>
 #include <string>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -64,6 +71,27 @@ bool is_plumbing_header(const std::string& header) {
   return name == "httplib.h" || name == "CLI11.hpp";
 }
 
+/// A room of the source tree and its level in the dependency order.
+struct Room {
+  const char* prefix = "";
+  int level = -1;  ///< -1: not placed (tests/ and the rest may include anything)
+};
+
+/// The rooms in dependency order, bottom first: a room includes headers of a lower level only.
+Room room_of(const std::string& relative) {
+  static const std::vector<Room> rooms = {
+      {"idl/core/", 0},       {"idl/wire/", 1},          {"idl/transport/", 2},
+      {"idl/fastdds/", 3},    {"idl/cyclonedds/", 3},    {"idl/factory/", 4},
+      {"agent/model/", 5},    {"agent/core/", 6},        {"arena/physics/", 6},
+      {"bridge/telemetry/", 6}, {"deploy/config/", 7},   {"agent/program/", 8},
+      {"arena/program/", 8},  {"bridge/", 9},            {"deploy/launch/", 10},
+      {"deploy/experiment/", 11}};
+  for (const auto& room : rooms) {
+    if (relative.rfind(room.prefix, 0) == 0) return room;
+  }
+  return {};
+}
+
 bool in_any(const std::string& relative, std::initializer_list<const char*> dirs) {
   for (const char* d : dirs) {
     if (starts_with(relative, d)) return true;
@@ -77,6 +105,18 @@ std::vector<Violation> scan(const fs::path& root, std::size_t* files_scanned = n
   static const std::regex include(R"(^\s*#\s*include\s*[<"]([^>"]+)[>"])");
   std::vector<Violation> out;
   std::size_t files = 0;
+  // Where each public header lives: `retreat/x/y.hpp` -> the file `<room>/.../include/retreat/x/y.hpp`.
+  std::map<std::string, std::string> header_file;
+  for (auto it = fs::recursive_directory_iterator(root); it != fs::recursive_directory_iterator(); ++it) {
+    const auto name = it->path().filename().string();
+    if (it->is_directory() && (starts_with(name, ".") || starts_with(name, "build") || name == "node_modules")) {
+      it.disable_recursion_pending();
+      continue;
+    }
+    const auto relative = fs::relative(it->path(), root).generic_string();
+    const auto at = relative.find("/include/retreat/");
+    if (it->is_regular_file() && at != std::string::npos) header_file[relative.substr(at + 9)] = relative;
+  }
   for (auto it = fs::recursive_directory_iterator(root); it != fs::recursive_directory_iterator();
        ++it) {
     const auto name = it->path().filename().string();
@@ -102,6 +142,14 @@ std::vector<Violation> scan(const fs::path& root, std::size_t* files_scanned = n
       const std::string header = m[1];
       if (!adapter && is_vendor_header(header)) out.push_back({relative, number, header, "vendor"});
       if (pure && is_plumbing_header(header)) out.push_back({relative, number, header, "pure"});
+      const auto placed = header_file.find(header);
+      const Room from = room_of(relative);
+      if (from.level >= 0 && placed != header_file.end()) {
+        const Room to = room_of(placed->second);
+        if (to.level > from.level || (to.level == from.level && std::string(to.prefix) != from.prefix)) {
+          out.push_back({relative, number, header, "layer"});
+        }
+      }
     }
   }
   if (files_scanned != nullptr) *files_scanned = files;
@@ -149,6 +197,15 @@ TEST(IncludePolicy, TheScannerFindsEveryPlantedViolationAndNothingElse) {
   plant(root, "idl/wire/src/topics.cpp", {inc("nlohmann/json.hpp")});
   plant(root, "idl/transport/src/inmemory.cpp", {inc("httplib.h", true)});
   plant(root, "idl/core/include/retreat/core/seed.hpp", {inc("fastcdr/Cdr.h")});
+  // Layers: headers placed in their rooms, then includes down (allowed) and up or sideways.
+  plant(root, "deploy/config/params/include/retreat/scenario/params.hpp",
+        {inc("retreat/agent/agent_params.hpp", true)});
+  plant(root, "agent/core/include/retreat/agent/agent_params.hpp", {inc("retreat/core/rng.hpp", true)});
+  plant(root, "agent/program/include/retreat/agent/agent_node.hpp",
+        {inc("retreat/scenario/params.hpp", true), inc("retreat/agent/agent_params.hpp", true)});
+  plant(root, "idl/core/include/retreat/core/rng.hpp", {inc("retreat/scenario/params.hpp", true)});
+  plant(root, "arena/physics/src/world.hpp",
+        {inc("retreat/agent/agent_params.hpp", true), inc("retreat/agent/agent_node.hpp", true)});
 
   std::size_t files = 0;
   const auto found = scan(root, &files);
@@ -164,8 +221,11 @@ TEST(IncludePolicy, TheScannerFindsEveryPlantedViolationAndNothingElse) {
       {"idl/wire/src/topics.cpp", 1, "nlohmann/json.hpp", "pure"},
       {"idl/transport/src/inmemory.cpp", 1, "httplib.h", "pure"},
       {"idl/core/include/retreat/core/seed.hpp", 1, "fastcdr/Cdr.h", "vendor"},
+      {"idl/core/include/retreat/core/rng.hpp", 1, "retreat/scenario/params.hpp", "layer"},
+      {"arena/physics/src/world.hpp", 1, "retreat/agent/agent_params.hpp", "layer"},
+      {"arena/physics/src/world.hpp", 2, "retreat/agent/agent_node.hpp", "layer"},
   };
-  EXPECT_EQ(files, 15u);  // the README, the hidden and the build directory are not scanned
+  EXPECT_EQ(files, 20u);  // the README, the hidden and the build directory are not scanned
   EXPECT_EQ(got, expected);
   for (const auto& v : got) {
     if (expected.count(v) == 0) ADD_FAILURE() << "unexpected: " << v;
@@ -176,7 +236,7 @@ TEST(IncludePolicy, TheScannerFindsEveryPlantedViolationAndNothingElse) {
   fs::remove_all(root);
 }
 
-TEST(IncludePolicy, OnlyTheAdaptersIncludeVendorHeadersAndPureLibrariesNoPlumbing) {
+TEST(IncludePolicy, OnlyTheAdaptersIncludeVendorHeadersPureLibrariesNoPlumbingAndNoRoomARoomAbove) {
   std::size_t files = 0;
   const auto found = scan(RETREAT_SOURCE_DIR, &files);
   // The tree has well over a hundred sources; a handful would mean the wrong root.

@@ -8,8 +8,8 @@
 #include <cstdint>
 #include <functional>
 
-#include "arena_node.hpp"
-#include "retreat/scenario/scenario.hpp"
+#include "retreat/arena/arena_node.hpp"
+#include "retreat/scenario/params.hpp"
 
 namespace retreat::launch {
 

@@ -11,7 +11,7 @@
 #include <string>
 
 #include "retreat/agent/retreat_agent.hpp"
-#include "retreat/scenario/scenario.hpp"
+#include "retreat/scenario/params.hpp"
 #include "retreat/transport/transport.hpp"
 
 namespace retreat::agent {

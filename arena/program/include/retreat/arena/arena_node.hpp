@@ -13,9 +13,9 @@
 #include <vector>
 
 #include "retreat/physics/world.hpp"
-#include "retreat/scenario/scenario.hpp"
+#include "retreat/scenario/params.hpp"
 #include "retreat/transport/transport.hpp"
-#include "run_recorder.hpp"
+#include "retreat/arena/run_recorder.hpp"
 
 namespace retreat::arena {
 

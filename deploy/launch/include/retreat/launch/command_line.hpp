@@ -6,7 +6,7 @@
 #include <string>
 #include <variant>
 
-#include "options.hpp"
+#include "retreat/launch/options.hpp"
 
 namespace retreat::launch {
 

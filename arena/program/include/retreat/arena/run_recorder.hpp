@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "retreat/physics/world.hpp"
-#include "retreat/scenario/scenario.hpp"
+#include "retreat/scenario/params.hpp"
 
 namespace retreat::arena {
 
@@ -65,7 +65,10 @@ class RunRecorder {
   /// Creates `dir` (and parents) and writes scenario.yaml. Throws std::runtime_error when the
   /// directory cannot be written. With `resume`, continues the run directory an arena that died
   /// left: telemetry.csv (its half-written last row dropped), retreats.csv, encounters.csv.
-  RunRecorder(const std::string& dir, const scenario::Scenario& scenario, bool resume = false);
+  /// @p scenario_yaml is the resolved scenario as its loader writes it (scenario::dump): the
+  /// recorder itself reads no YAML, so that the in-memory core builds without yaml-cpp.
+  RunRecorder(const std::string& dir, const scenario::Scenario& scenario, const std::string& scenario_yaml,
+              bool resume = false);
 
   /// --resume: the tick of the last complete telemetry row (0 if none) and the journal.
   std::int64_t resumable_tick() const { return resumable_tick_; }
