@@ -18,7 +18,7 @@
 #include "ensemble.hpp"
 #include "page.hpp"
 #include "retreat/agent/controller_registry.hpp"
-#include "retreat/bridge/figures.hpp"
+#include "retreat/report/figures.hpp"
 #include "retreat/model/optimum.hpp"
 #include "retreat/scenario/scenario.hpp"
 #include "subcommands.hpp"
@@ -180,7 +180,7 @@ int run_controllers(const ControllersOptions& o) {
                      {"tables", {table}}}}},
       {"footer", "Written by retreat-experiment controllers; data in results.json, results.csv, results.md, seeds.csv, "
                  "population.csv."}};
-  bridge::write_figures_page(page, out + "/report.html");
+  report::write_figures_page(page, out + "/report.html");
   std::fprintf(stderr, "retreat-experiment: controllers: %s/results.md, %s/report.html\n", out.c_str(), out.c_str());
   return 0;
 }

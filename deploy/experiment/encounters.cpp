@@ -13,7 +13,7 @@
 
 #include "launch.hpp"
 #include "page.hpp"
-#include "retreat/bridge/figures.hpp"
+#include "retreat/report/figures.hpp"
 #include "retreat/model/encounter.hpp"
 #include "retreat/physics/world.hpp"
 #include "retreat/scenario/scenario.hpp"
@@ -204,7 +204,7 @@ int run_encounters(const EncountersOptions& o) {
                                         {"figures", {f1, f2}}}}},
                          {"footer", "Written by retreat-experiment encounters; data in results.json, "
                                     "histograms.csv, intervals.csv, contacts.csv."}};
-  bridge::write_figures_page(page, out + "/report.html");
+  report::write_figures_page(page, out + "/report.html");
   std::fprintf(stderr, "retreat-experiment: encounters: onset rate %.3f× the formula; KS %.4f (critical %.4f); "
                        "fitted ρ = %.3f ± %.3f /s (paper 2.44), KS %.4f (critical %.4f); %s/report.html\n",
                measured_rate / omega_paper, ks_gap, ks_gap_critical, rho_robot,

@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// Builders for the figures page (retreat/bridge/figures.hpp describes its JSON).
+/// Builders for the figures page (retreat/report/figures.hpp describes its JSON).
 
 #include <nlohmann/json.hpp>
 #include <string>

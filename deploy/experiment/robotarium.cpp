@@ -12,7 +12,7 @@
 
 #include "ensemble.hpp"
 #include "page.hpp"
-#include "retreat/bridge/figures.hpp"
+#include "retreat/report/figures.hpp"
 #include "retreat/scenario/scenario.hpp"
 #include "subcommands.hpp"
 
@@ -145,7 +145,7 @@ int run_robotarium(const RobotariumOptions& o) {
                      {"figures", figures},
                      {"tables", {table}}}}},
       {"footer", "Written by retreat-experiment robotarium; data in results.json, population.csv, seeds.csv."}};
-  bridge::write_figures_page(page, out + "/report.html");
+  report::write_figures_page(page, out + "/report.html");
   for (const auto& e : ensembles) {
     const auto last300 = over_seeds(e, [](const SeedRun& r) { return r.mean_last_300s; });
     const auto final_pop = over_seeds(e, [](const SeedRun& r) { return r.final_population; });

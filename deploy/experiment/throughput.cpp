@@ -13,7 +13,7 @@
 
 #include "launch.hpp"
 #include "page.hpp"
-#include "retreat/bridge/figures.hpp"
+#include "retreat/report/figures.hpp"
 #include "retreat/model/ctmc.hpp"
 #include "retreat/model/encounter.hpp"
 #include "retreat/physics/world.hpp"
@@ -203,7 +203,7 @@ int run_throughput(const ThroughputOptions& o) {
                          {"sections", {{{"heading", "Set-up"}, {"text", {text}}, {"figures", {f1, f2}},
                                         {"tables", {table}}}}},
                          {"footer", "Written by retreat-experiment throughput; data in results.json, points.csv, curve.csv."}};
-  bridge::write_figures_page(page, out + "/report.html");
+  report::write_figures_page(page, out + "/report.html");
   for (const auto& p : points) {
     std::fprintf(stderr, "retreat-experiment: throughput: λ = %.2f: simulated/CTMC %.3f (ρ fitted %.3f), %.3f (ρ 2.44)\n",
                  p.lambda, p.output / model::output(fitted, p.lambda), fit.rho_robot, p.output / model::output(paper, p.lambda));
