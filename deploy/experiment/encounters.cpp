@@ -42,8 +42,6 @@ int run_encounters(const EncountersOptions& o) {
   const double density = file.arena.robots_inside / file_area;
   const std::uint32_t robots = o.robots.value_or(o.common.quick ? 60 : 200);
   const double duration = o.duration.value_or(o.common.quick ? 20.0 : 100.0);
-  if (robots < 2) throw UsageError("--robots " + std::to_string(robots) + ": must be >= 2");
-  if (!(duration > 0.0)) throw UsageError("--duration " + std::to_string(duration) + ": must be > 0 (seconds)");
   const double side = std::sqrt(robots / density);
   std::vector<std::string> overrides = {"arena.robots_inside=" + std::to_string(robots),
                                         "arena.width=" + std::to_string(side),
