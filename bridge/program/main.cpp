@@ -32,10 +32,10 @@
 #include "retreat/bridge/address.hpp"
 #include "retreat/bridge/live_state.hpp"
 #include "retreat/bridge/receiver.hpp"
-#include "retreat/bridge/report.hpp"
-#include "retreat/bridge/run_info.hpp"
 #include "retreat/bridge/server.hpp"
 #include "retreat/core/paths.hpp"
+#include "retreat/report/report.hpp"
+#include "retreat/report/run_info.hpp"
 #include "retreat/scenario/program_options.hpp"
 #include "retreat/scenario/scenario.hpp"
 #include "retreat/transport/factory.hpp"
@@ -53,7 +53,7 @@ int fail(int code, const std::string& message) {
 /// Writes the report, saying so on stderr; a failure is reported, never fatal.
 void report(const std::string& dir) {
   try {
-    const auto path = bridge::write_report(dir);
+    const auto path = report::write_report(dir);
     std::fprintf(stderr, "retreat-bridge: wrote %s\n", path.c_str());
   } catch (const std::exception& e) {
     std::fprintf(stderr, "retreat-bridge: no report: %s\n", e.what());
@@ -71,7 +71,7 @@ std::optional<fs::file_time_type> summary_time(const std::string& dir) {
 /// --report DIR: writes DIR/report.html and returns the exit code.
 int write_report_only(const std::string& dir) {
   try {
-    const auto path = bridge::write_report(dir);
+    const auto path = report::write_report(dir);
     std::printf("retreat-bridge: wrote %s\n", path.c_str());
     return 0;
   } catch (const std::invalid_argument& e) {
@@ -146,7 +146,7 @@ int serve(const bridge::BridgeCommandLine& command_line) {
     return fail(2, e.what());
   }
 
-  bridge::LiveState state{telemetry::Aggregator(bridge::run_info(s))};
+  bridge::LiveState state{telemetry::Aggregator(report::run_info(s))};
   std::unique_ptr<bridge::Receiver> receiver;
   const bridge::Server* serving_server = nullptr;
   bridge::ServerOptions options;

@@ -1,4 +1,4 @@
-#include "common.hpp"
+#include "retreat/experiment/common.hpp"
 
 #include "retreat/core/paths.hpp"
 

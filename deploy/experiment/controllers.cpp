@@ -18,10 +18,10 @@
 #include "ensemble.hpp"
 #include "page.hpp"
 #include "retreat/agent/controller_registry.hpp"
-#include "retreat/bridge/figures.hpp"
+#include "retreat/report/figures.hpp"
 #include "retreat/model/optimum.hpp"
 #include "retreat/scenario/scenario.hpp"
-#include "subcommands.hpp"
+#include "retreat/experiment/subcommands.hpp"
 
 namespace retreat::experiment {
 namespace {
@@ -45,128 +45,137 @@ std::string pm(const Moments& m, int digits) {
   return std::isfinite(m.mean) ? fixed(m.mean, digits) + " ± " + fixed(m.sd, digits) : "∞ (a seed without deliveries)";
 }
 
-}  // namespace
+struct Case {
+  std::string name, label, file;
+};
 
-int run_controllers(const ControllersOptions& o) {
-  struct Case {
-    std::string name, label, file;
-  };
-  const std::vector<Case> cases = {
-      {"finite", "finite queue (robotarium-2019)", scenario_file(o.common, "robotarium-2019.yaml")},
-      {"endless", "endless queue (steady-influx)", scenario_file(o.common, "steady-influx.yaml")}};
-  const SeedRange seeds = o.seeds.value_or(o.common.quick ? SeedRange{1, 3} : SeedRange{1, 100});
-  const auto controllers = agent::controller_names();
-  make_run_dir(o.common.out_dir);
-  const std::string out = o.common.out_dir;
-
-  CsvWriter per_seed(out + "/seeds.csv", {"scenario", "controller", "seed", "J_whole", "lambda_whole", "output_whole",
-                                          "J_last_half", "lambda_last_half", "output_last_half", "final", "optimum",
-                                          "departed", "lost"});
-  CsvWriter results_csv(out + "/results.csv",
-                        {"scenario", "controller", "seeds", "duration", "J_whole_pooled", "J_last_half_pooled",
-                         "J_last_half_mean", "J_last_half_sd", "mean_population_last_half", "final_mean", "final_sd",
-                         "final_min", "final_max", "optimum", "departed_mean", "departed_min", "departed_max",
-                         "deliveries_mean", "lost_total"});
-  CsvWriter population(out + "/population.csv", {"ensemble", "time", "mean", "sd", "min", "max"});
+/// The run's tables, filled one ensemble (scenario, controller) at a time.
+struct Tables {
+  explicit Tables(const std::string& out)
+      : per_seed(out + "/seeds.csv", {"scenario", "controller", "seed", "J_whole", "lambda_whole", "output_whole",
+                                      "J_last_half", "lambda_last_half", "output_last_half", "final", "optimum",
+                                      "departed", "lost"}),
+        results_csv(out + "/results.csv",
+                    {"scenario", "controller", "seeds", "duration", "J_whole_pooled", "J_last_half_pooled",
+                     "J_last_half_mean", "J_last_half_sd", "mean_population_last_half", "final_mean", "final_sd",
+                     "final_min", "final_max", "optimum", "departed_mean", "departed_min", "departed_max",
+                     "deliveries_mean", "lost_total"}),
+        population(out + "/population.csv", {"ensemble", "time", "mean", "sd", "min", "max"}) {}
+  CsvWriter per_seed, results_csv, population;
   nlohmann::json results = nlohmann::json::array(), rows = nlohmann::json::array(), figures = nlohmann::json::array();
   std::string markdown =
       "| scenario | controller | J whole run | J last half | J last half per seed | population last half | "
       "final population | final min–max | optimum λ*·\\|D\\| | robots that left (min–max) |\n"
       "|---|---|---|---|---|---|---|---|---|---|\n";
-  for (const auto& c : cases) {
-    const auto s = scenario::load(c.file);
-    std::vector<Ensemble> ensembles;
-    for (const auto& name : controllers) {
-      const std::string dir = out + "/runs/" + c.name + "/" + name;
-      LaunchRequest r{c.file, {"agent.controller=" + name}, seeds, true, "", {}, dir, dir + ".log"};
-      if (o.common.quick && c.name == "endless") r.overrides.emplace_back("run.duration=" + fixed(quick_endless, 0));
-      ensembles.push_back(run_ensemble(o.common.launcher, c.name + "-" + name, name, r, s.model.C));
-    }
-    auto overlay = figure("population-" + c.name, "Mean population, " + c.label,
-                          "Mean over " + std::to_string(seeds.count()) + " seeds (" + seeds.text() +
-                              ") of the robots inside D, one line per controller; dashed: the optimum λ*·|D|.",
-                          "simulated time [s]", "robots inside");
-    overlay["y_min"] = 0.0;
-    auto paired = figure("J-" + c.name, "J per seed against paper, " + c.label,
-                         "Each point one seed: J over the last half of the run with paper (x) and with the controller "
-                         "(y), same seed and scenario; below the diagonal the controller did better. Seeds without "
-                         "deliveries (J = ∞) are left out.",
-                         "J with paper [robots/m²]", "J with the controller [robots/m²]");
-    const Ensemble& paper = ensembles.front();
-    double j_lo = std::numeric_limits<double>::infinity(), j_hi = 0.0;
-    for (const auto& e : ensembles) {
-      const auto final_pop = over_seeds(e, [](const SeedRun& r) { return r.final_population; });
-      const auto departed = over_seeds(e, [](const SeedRun& r) { return r.departed; });
-      const auto deliveries = over_seeds(e, [](const SeedRun& r) { return r.whole.deliveries; });
-      const auto j_half = over_seeds(e, [](const SeedRun& r) { return r.last_half.J; });
-      const auto pop_half = over_seeds(e, [](const SeedRun& r) { return r.last_half.mean_population; });
-      double lost = 0.0;  // agents the arena declared lost, all seeds
-      for (const auto& r : e.runs) lost += r.agents_lost;
-      const double optimum = e.runs.front().optimal_population;
-      const double jw = pooled_J(e, s.model.C, false), jh = pooled_J(e, s.model.C, true);
-      for (const auto& r : e.runs) {
-        per_seed.row({c.name, e.label, r.seed, r.whole.J, r.whole.lambda, r.whole.output, r.last_half.J,
-                       r.last_half.lambda, r.last_half.output, r.final_population, optimum, r.departed, r.agents_lost});
-      }
-      results_csv.row({c.name, e.label, e.runs.size(), e.runs.front().duration, jw, jh, j_half.mean, j_half.sd,
-                       pop_half.mean, final_pop.mean, final_pop.sd, final_pop.min, final_pop.max, optimum,
-                       departed.mean, departed.min, departed.max, deliveries.mean, lost});
-      results.push_back({{"scenario", c.name}, {"controller", e.label}, {"seeds", e.runs.size()},
-                         {"duration", e.runs.front().duration}, {"J_whole_pooled", jw}, {"J_last_half_pooled", jh},
-                         {"J_last_half", {{"mean", j_half.mean}, {"sd", j_half.sd}}},
-                         {"mean_population_last_half", {{"mean", pop_half.mean}, {"sd", pop_half.sd}}},
-                         {"final_population", {{"mean", final_pop.mean}, {"sd", final_pop.sd}, {"min", final_pop.min},
-                                               {"max", final_pop.max}}},
-                         {"optimum", optimum}, {"J_at_optimum_ctmc", model::cost(s.model, model::lambda_star(s.model))},
-                         {"departed", {{"mean", departed.mean}, {"min", departed.min}, {"max", departed.max}}},
-                         {"deliveries_mean", deliveries.mean}, {"agents_lost_total", lost}});
-      const std::vector<std::string> cells = {
-          c.name, e.label, fixed(jw, 3), fixed(jh, 3), pm(j_half, 3), pm(pop_half, 2), pm(final_pop, 2),
-          fixed(final_pop.min, 0) + "–" + fixed(final_pop.max, 0), fixed(optimum, 2),
-          fixed(departed.mean, 1) + " (" + fixed(departed.min, 0) + "–" + fixed(departed.max, 0) + ")"};
-      rows.push_back(cells);
-      std::string line = "|";
-      for (const auto& cell : cells) line += " " + cell + " |";
-      markdown += line + "\n";
-      write_population_rows(population, e);
-      overlay["series"].push_back(series(e.label, "line", e.time, e.mean));
-      std::vector<double> x, y;
-      for (std::size_t k = 0; k < e.runs.size() && k < paper.runs.size(); ++k) {
-        if (!std::isfinite(paper.runs[k].last_half.J) || !std::isfinite(e.runs[k].last_half.J)) continue;
-        x.push_back(paper.runs[k].last_half.J);
-        y.push_back(e.runs[k].last_half.J);
-        j_lo = std::min({j_lo, x.back(), y.back()});
-        j_hi = std::max({j_hi, x.back(), y.back()});
-      }
-      paired["series"].push_back(series(e.label, "points", x, y));
-      std::fprintf(stderr, "retreat-experiment: controllers: %s, %s: J %.3f (last half %.3f), final %.2f ± %.2f "
-                           "(optimum %.2f), %.1f left\n", c.name.c_str(), e.label.c_str(), jw, jh, final_pop.mean,
-                   final_pop.sd, optimum, departed.mean);
-    }
-    overlay["series"].push_back(level("optimum λ*·|D|", 0.0, ensembles.front().time.back(),
-                                      ensembles.front().runs.front().optimal_population));
-    if (j_hi > 0.0) paired["series"].push_back(series("diagonal", "line", {j_lo, j_hi}, {j_lo, j_hi}, true));
-    figures.push_back(overlay);
-    if (j_hi > 0.0) figures.push_back(paired);
+};
+
+/// Every controller on `c`, one ensemble each (paper first).
+std::vector<Ensemble> run_case(const ControllersOptions& o, const Case& c, const SeedRange& seeds,
+                               const std::vector<std::string>& controllers, double C) {
+  std::vector<Ensemble> ensembles;
+  for (const auto& name : controllers) {
+    const std::string dir = o.common.out_dir + "/runs/" + c.name + "/" + name;
+    LaunchRequest r{c.file, {"agent.controller=" + name}, seeds, true, "", {}, dir, dir + ".log"};
+    if (o.common.quick && c.name == "endless") r.overrides.emplace_back("run.duration=" + fixed(quick_endless, 0));
+    ensembles.push_back(run_ensemble(o.common.launcher, c.name + "-" + name, name, r, C));
   }
-  per_seed.close();
-  results_csv.close();
-  population.close();
-  write_json(out + "/results.json", results);
-  {
-    std::ofstream md(out + "/results.md");
-    md << "Seeds " << seeds.text() << ", in-process, physical world. J = C/output + λ̄ (MODEL.md §4) from the measured "
-          "population and deliveries; \"whole run\" and \"last half\" are J of the seeds pooled (mean output, mean λ̄) "
-          "over [0, T] and [T/2, T]; \"per seed\" is the mean ± sd of each seed's J over [T/2, T]. Populations are "
-          "robots inside D (mean ± sd over seeds).\n\n"
-       << markdown;
-    if (!md.flush()) throw RunFailure("cannot write '" + out + "/results.md'");
+  return ensembles;
+}
+
+/// One ensemble's rows in every table, and its line on stderr.
+void tabulate(Tables& t, const Case& c, const Ensemble& e, const scenario::Scenario& s) {
+  const auto final_pop = over_seeds(e, [](const SeedRun& r) { return r.final_population; });
+  const auto departed = over_seeds(e, [](const SeedRun& r) { return r.departed; });
+  const auto deliveries = over_seeds(e, [](const SeedRun& r) { return r.whole.deliveries; });
+  const auto j_half = over_seeds(e, [](const SeedRun& r) { return r.last_half.J; });
+  const auto pop_half = over_seeds(e, [](const SeedRun& r) { return r.last_half.mean_population; });
+  double lost = 0.0;  // agents the arena declared lost, all seeds
+  for (const auto& r : e.runs) lost += r.agents_lost;
+  const double optimum = e.runs.front().optimal_population;
+  const double jw = pooled_J(e, s.model.C, false), jh = pooled_J(e, s.model.C, true);
+  for (const auto& r : e.runs) {
+    t.per_seed.row({c.name, e.label, r.seed, r.whole.J, r.whole.lambda, r.whole.output, r.last_half.J,
+                    r.last_half.lambda, r.last_half.output, r.final_population, optimum, r.departed, r.agents_lost});
   }
+  t.results_csv.row({c.name, e.label, e.runs.size(), e.runs.front().duration, jw, jh, j_half.mean, j_half.sd,
+                     pop_half.mean, final_pop.mean, final_pop.sd, final_pop.min, final_pop.max, optimum,
+                     departed.mean, departed.min, departed.max, deliveries.mean, lost});
+  t.results.push_back({{"scenario", c.name}, {"controller", e.label}, {"seeds", e.runs.size()},
+                       {"duration", e.runs.front().duration}, {"J_whole_pooled", jw}, {"J_last_half_pooled", jh},
+                       {"J_last_half", {{"mean", j_half.mean}, {"sd", j_half.sd}}},
+                       {"mean_population_last_half", {{"mean", pop_half.mean}, {"sd", pop_half.sd}}},
+                       {"final_population", {{"mean", final_pop.mean}, {"sd", final_pop.sd}, {"min", final_pop.min},
+                                             {"max", final_pop.max}}},
+                       {"optimum", optimum}, {"J_at_optimum_ctmc", model::cost(s.model, model::lambda_star(s.model))},
+                       {"departed", {{"mean", departed.mean}, {"min", departed.min}, {"max", departed.max}}},
+                       {"deliveries_mean", deliveries.mean}, {"agents_lost_total", lost}});
+  const std::vector<std::string> cells = {
+      c.name, e.label, fixed(jw, 3), fixed(jh, 3), pm(j_half, 3), pm(pop_half, 2), pm(final_pop, 2),
+      fixed(final_pop.min, 0) + "–" + fixed(final_pop.max, 0), fixed(optimum, 2),
+      fixed(departed.mean, 1) + " (" + fixed(departed.min, 0) + "–" + fixed(departed.max, 0) + ")"};
+  t.rows.push_back(cells);
+  std::string line = "|";
+  for (const auto& cell : cells) line += " " + cell + " |";
+  t.markdown += line + "\n";
+  write_population_rows(t.population, e);
+  std::fprintf(stderr, "retreat-experiment: controllers: %s, %s: J %.3f (last half %.3f), final %.2f ± %.2f "
+                       "(optimum %.2f), %.1f left\n", c.name.c_str(), e.label.c_str(), jw, jh, final_pop.mean,
+               final_pop.sd, optimum, departed.mean);
+}
+
+/// The case's figures: the mean populations, and J per seed against paper (when any is finite).
+void add_case_figures(nlohmann::json& figures, const Case& c, const std::vector<Ensemble>& ensembles,
+                      const SeedRange& seeds) {
+  auto overlay = figure("population-" + c.name, "Mean population, " + c.label,
+                        "Mean over " + std::to_string(seeds.count()) + " seeds (" + seeds.text() +
+                            ") of the robots inside D, one line per controller; dashed: the optimum λ*·|D|.",
+                        "simulated time [s]", "robots inside");
+  overlay["y_min"] = 0.0;
+  auto paired = figure("J-" + c.name, "J per seed against paper, " + c.label,
+                       "Each point one seed: J over the last half of the run with paper (x) and with the controller "
+                       "(y), same seed and scenario; below the diagonal the controller did better. Seeds without "
+                       "deliveries (J = ∞) are left out.",
+                       "J with paper [robots/m²]", "J with the controller [robots/m²]");
+  const Ensemble& paper = ensembles.front();
+  double j_lo = std::numeric_limits<double>::infinity(), j_hi = 0.0;
+  for (const auto& e : ensembles) {
+    overlay["series"].push_back(series(e.label, "line", e.time, e.mean));
+    std::vector<double> x, y;
+    for (std::size_t k = 0; k < e.runs.size() && k < paper.runs.size(); ++k) {
+      if (!std::isfinite(paper.runs[k].last_half.J) || !std::isfinite(e.runs[k].last_half.J)) continue;
+      x.push_back(paper.runs[k].last_half.J);
+      y.push_back(e.runs[k].last_half.J);
+      j_lo = std::min({j_lo, x.back(), y.back()});
+      j_hi = std::max({j_hi, x.back(), y.back()});
+    }
+    paired["series"].push_back(series(e.label, "points", x, y));
+  }
+  overlay["series"].push_back(level("optimum λ*·|D|", 0.0, ensembles.front().time.back(),
+                                    ensembles.front().runs.front().optimal_population));
+  if (j_hi > 0.0) paired["series"].push_back(series("diagonal", "line", {j_lo, j_hi}, {j_lo, j_hi}, true));
+  figures.push_back(overlay);
+  if (j_hi > 0.0) figures.push_back(paired);
+}
+
+/// results.md: a note, then the table.
+void write_markdown(const std::string& out, const SeedRange& seeds, const std::string& markdown) {
+  std::ofstream md(out + "/results.md");
+  md << "Seeds " << seeds.text() << ", in-process, physical world. J = C/output + λ̄ (MODEL.md §4) from the measured "
+        "population and deliveries; \"whole run\" and \"last half\" are J of the seeds pooled (mean output, mean λ̄) "
+        "over [0, T] and [T/2, T]; \"per seed\" is the mean ± sd of each seed's J over [T/2, T]. Populations are "
+        "robots inside D (mean ± sd over seeds).\n\n"
+     << markdown;
+  if (!md.flush()) throw RunFailure("cannot write '" + out + "/results.md'");
+}
+
+/// report.html.
+void write_page(const std::string& out, const SeedRange& seeds, const std::vector<std::string>& controllers,
+                const Tables& t) {
   nlohmann::json table = {{"title", "Controllers on the same seeds"},
                           {"columns", {"scenario", "controller", "J whole run", "J last half", "J last half per seed",
                                        "population last half", "final population", "final min–max", "optimum",
                                        "robots that left"}},
-                          {"rows", rows}};
+                          {"rows", t.rows}};
   std::string names;
   for (const auto& n : controllers) names += (names.empty() ? "" : ", ") + n;
   nlohmann::json page = {
@@ -176,11 +185,36 @@ int run_controllers(const ControllersOptions& o) {
                      {"text", {"J = C/output + λ̄ (MODEL.md §4), with output = deliveries/(|D|·span) and λ̄ the "
                                "time-mean of the robots inside D over |D|; pooled over seeds for the whole run [0, T] "
                                "and its last half [T/2, T]. Lower is better."}},
-                     {"figures", figures},
+                     {"figures", t.figures},
                      {"tables", {table}}}}},
       {"footer", "Written by retreat-experiment controllers; data in results.json, results.csv, results.md, seeds.csv, "
                  "population.csv."}};
-  bridge::write_figures_page(page, out + "/report.html");
+  report::write_figures_page(page, out + "/report.html");
+}
+
+}  // namespace
+
+int run_controllers(const ControllersOptions& o) {
+  const std::vector<Case> cases = {
+      {"finite", "finite queue (robotarium-2019)", scenario_file(o.common, "robotarium-2019.yaml")},
+      {"endless", "endless queue (steady-influx)", scenario_file(o.common, "steady-influx.yaml")}};
+  const SeedRange seeds = o.seeds.value_or(o.common.quick ? SeedRange{1, 3} : SeedRange{1, 100});
+  const auto controllers = agent::controller_names();
+  make_run_dir(o.common.out_dir);
+  const std::string out = o.common.out_dir;
+  Tables t(out);
+  for (const auto& c : cases) {
+    const auto s = scenario::load(c.file);
+    const auto ensembles = run_case(o, c, seeds, controllers, s.model.C);
+    for (const auto& e : ensembles) tabulate(t, c, e, s);
+    add_case_figures(t.figures, c, ensembles, seeds);
+  }
+  t.per_seed.close();
+  t.results_csv.close();
+  t.population.close();
+  write_json(out + "/results.json", t.results);
+  write_markdown(out, seeds, t.markdown);
+  write_page(out, seeds, controllers, t);
   std::fprintf(stderr, "retreat-experiment: controllers: %s/results.md, %s/report.html\n", out.c_str(), out.c_str());
   return 0;
 }

@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <thread>
 
-#include "../launch/child_process.hpp"
+#include "retreat/launch/child_process.hpp"
 
 namespace retreat::experiment {
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "common.hpp"
+#include "retreat/experiment/common.hpp"
 
 namespace retreat::experiment {
 

@@ -1,12 +1,12 @@
 #pragma once
 /// @file
-/// Builders for the figures page (retreat/bridge/figures.hpp describes its JSON).
+/// Builders for the figures page (retreat/report/figures.hpp describes its JSON).
 
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
-#include "common.hpp"
+#include "retreat/experiment/common.hpp"
 
 namespace retreat::experiment {
 

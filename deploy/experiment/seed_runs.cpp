@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "common.hpp"
+#include "retreat/experiment/common.hpp"
 
 namespace retreat::experiment {
 namespace {

@@ -10,7 +10,7 @@
 #include <optional>
 #include <thread>
 
-#include "child_process.hpp"
+#include "retreat/launch/child_process.hpp"
 #include "progress.hpp"
 #include "retreat/scenario/program_options.hpp"
 #include "retreat/transport/factory.hpp"

@@ -1,4 +1,4 @@
-// The bridge's figures page (retreat/bridge/figures.hpp), which retreat-experiment draws with:
+// The bridge's figures page (retreat/report/figures.hpp), which retreat-experiment draws with:
 // a page description is checked field by field, and the page carries it whole, with uPlot and
 // the page script inlined.
 
@@ -9,7 +9,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "retreat/bridge/figures.hpp"
+#include "retreat/report/figures.hpp"
 #include "retreat/testing/process.hpp"
 
 namespace {
@@ -29,7 +29,7 @@ json line(const json& x, const json& y) { return {{"label", "l"}, {"kind", "line
 
 std::string error_of(const json& page) {
   try {
-    retreat::bridge::validate_figures_page(page);
+    retreat::report::validate_figures_page(page);
   } catch (const std::invalid_argument& e) {
     return e.what();
   }
@@ -62,7 +62,7 @@ TEST(FiguresPage, NamesTheFirstBadField) {
 
 TEST(FiguresPage, CarriesItsDataWithEverythingInlined) {
   const auto page = page_with(json::array({line({0, 1}, {2, 3})}));
-  const auto html = retreat::bridge::render_figures_page(page);
+  const auto html = retreat::report::render_figures_page(page);
   const std::string start = "window.FIGURES = ";
   const auto from = html.find(start);
   ASSERT_NE(from, std::string::npos);
@@ -82,10 +82,10 @@ TEST(FiguresPage, IsWrittenWholeOrNotAtAll) {
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   const auto path = (dir / "report.html").string();
-  retreat::bridge::write_figures_page(page_with(json::array({line({0}, {1})})), path);
-  EXPECT_EQ(retreat::testing::read_file(path), retreat::bridge::render_figures_page(page_with(json::array({line({0}, {1})}))));
+  retreat::report::write_figures_page(page_with(json::array({line({0}, {1})})), path);
+  EXPECT_EQ(retreat::testing::read_file(path), retreat::report::render_figures_page(page_with(json::array({line({0}, {1})}))));
   EXPECT_FALSE(std::filesystem::exists(path + ".tmp"));
-  EXPECT_THROW(retreat::bridge::write_figures_page(page_with(json::array({line({0}, {1})})), (dir / "no" / "x.html").string()),
+  EXPECT_THROW(retreat::report::write_figures_page(page_with(json::array({line({0}, {1})})), (dir / "no" / "x.html").string()),
                std::runtime_error);
 }
 

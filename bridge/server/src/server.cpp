@@ -11,8 +11,8 @@
 #include <thread>
 
 #include "retreat/bridge/json.hpp"
-#include "retreat/bridge/report.hpp"
-#include "retreat/bridge/web_assets.hpp"
+#include "retreat/report/report.hpp"
+#include "retreat/report/web_assets.hpp"
 
 namespace retreat::bridge {
 
@@ -128,9 +128,9 @@ void Server::add_page_routes() {
   auto& http = impl_->http;
   const auto asset = [](const std::string& name) {
     return [name](const httplib::Request&, httplib::Response& res) {
-      const auto* a = find_web_asset(name);
+      const auto* a = report::find_web_asset(name);
       if (a == nullptr) return plain_error(res, 404, "404 not found");
-      res.set_content(a->data.data(), a->data.size(), std::string(content_type_for(name)));
+      res.set_content(a->data.data(), a->data.size(), std::string(report::content_type_for(name)));
       res.set_header("Cache-Control", name == "index.html" ? "no-cache" : "max-age=300");
       if (name == "index.html") {
         res.set_header(
@@ -141,7 +141,7 @@ void Server::add_page_routes() {
   };
   http.Get("/", asset("index.html"));
   http.Get("/index.html", asset("index.html"));
-  for (const auto& a : web_assets()) {
+  for (const auto& a : report::web_assets()) {
     const std::string name(a.name);
     if (name == "index.html" || name.rfind("report", 0) == 0) continue;  // report.* are for files
     http.Get("/" + name, asset(name));
@@ -264,7 +264,7 @@ void Server::add_run_file_routes() {
                res.set_header("Content-Disposition", "attachment; filename=\"" + name + "\"");
              // The arena may still be appending: serve the size seen now.
              res.set_content_provider(
-                 static_cast<std::size_t>(size), std::string(content_type_for(name)),
+                 static_cast<std::size_t>(size), std::string(report::content_type_for(name)),
                  [file](std::size_t offset, std::size_t length, httplib::DataSink& sink) {
                    char buffer[16384];
                    file->seekg(static_cast<std::streamoff>(offset));
@@ -281,7 +281,7 @@ void Server::add_run_file_routes() {
       return plain_error(res, 404, "404 no run directory (start with --out DIR)");
     no_store(res);
     try {
-      res.set_content(render_report(impl->options.run_dir), "text/html; charset=utf-8");
+      res.set_content(report::render_report(impl->options.run_dir), "text/html; charset=utf-8");
     } catch (const std::exception& e) {
       plain_error(res, 409, std::string("409 no report yet: ") + e.what());
     }

@@ -1,7 +1,7 @@
 // report.html from a scripted run directory: the plotted numbers are exact, several seed
 // directories give a mean and a band, and the page is self-contained.
 
-#include "retreat/bridge/report.hpp"
+#include "retreat/report/report.hpp"
 
 #include <gtest/gtest.h>
 
@@ -12,7 +12,7 @@
 #include "retreat/model/encounter.hpp"
 #include "retreat/scenario/scenario.hpp"
 
-namespace retreat::bridge {
+namespace retreat::report {
 namespace {
 
 namespace fs = std::filesystem;
@@ -155,4 +155,4 @@ TEST_F(Report, ADirectoryWithoutTelemetryIsRefused) {
 }
 
 }  // namespace
-}  // namespace retreat::bridge
+}  // namespace retreat::report

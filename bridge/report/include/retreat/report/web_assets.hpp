@@ -6,7 +6,7 @@
 #include <string_view>
 #include <vector>
 
-namespace retreat::bridge {
+namespace retreat::report {
 
 struct WebAsset {
   std::string_view name;  ///< e.g. `index.html`, `vendor/uPlot.iife.min.js`
@@ -22,4 +22,4 @@ const WebAsset* find_web_asset(std::string_view name);
 /// Content-Type for a file name by its extension (`application/octet-stream` when unknown).
 std::string_view content_type_for(std::string_view name);
 
-}  // namespace retreat::bridge
+}  // namespace retreat::report

@@ -1,4 +1,4 @@
-#include "retreat/bridge/report.hpp"
+#include "retreat/report/report.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -11,12 +11,12 @@
 #include <stdexcept>
 
 #include "page_parts.hpp"
-#include "retreat/bridge/run_info.hpp"
+#include "retreat/report/run_info.hpp"
 #include "retreat/model/ctmc.hpp"
 #include "retreat/model/encounter.hpp"
 #include "retreat/scenario/scenario.hpp"
 
-namespace retreat::bridge {
+namespace retreat::report {
 
 namespace {
 
@@ -398,4 +398,4 @@ std::string write_report(const std::string& dir, const std::string& path) {
   return target;
 }
 
-}  // namespace retreat::bridge
+}  // namespace retreat::report

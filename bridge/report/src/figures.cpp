@@ -1,4 +1,4 @@
-#include "retreat/bridge/figures.hpp"
+#include "retreat/report/figures.hpp"
 
 #include <filesystem>
 #include <fstream>
@@ -7,7 +7,7 @@
 
 #include "page_parts.hpp"
 
-namespace retreat::bridge {
+namespace retreat::report {
 
 namespace {
 
@@ -154,4 +154,4 @@ void write_figures_page(const json& page, const std::string& path) {
   std::filesystem::rename(tmp, path);
 }
 
-}  // namespace retreat::bridge
+}  // namespace retreat::report

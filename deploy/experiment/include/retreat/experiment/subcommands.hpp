@@ -1,15 +1,16 @@
 #pragma once
 /// @file
-/// The subcommands of retreat-experiment. Each validates its options (UsageError), writes its
-/// run directory (data as CSV and JSON, report.html with the figures) and returns 0; a failed
-/// run throws RunFailure.
+/// The subcommands of retreat-experiment. Each takes its options as parse_command_line() checked
+/// them (command_line.hpp), writes its run directory (data as CSV and JSON, report.html with the
+/// figures) and returns 0; a missing scenario file or a run directory in use throws UsageError, a
+/// failed run RunFailure.
 
 #include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "common.hpp"
+#include "retreat/experiment/common.hpp"
 
 namespace retreat::experiment {
 

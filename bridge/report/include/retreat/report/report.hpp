@@ -15,7 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
-namespace retreat::bridge {
+namespace retreat::report {
 
 /// The numbers the report plots, as JSON (what the page script receives):
 /// {"title", "runs": [summary...], "run_dirs": [...], "lambda_star", "area", "optimum",
@@ -35,4 +35,4 @@ std::string render_report(const std::string& dir);
 /// so that a reader never sees half a report. Returns the path written.
 std::string write_report(const std::string& dir, const std::string& path = {});
 
-}  // namespace retreat::bridge
+}  // namespace retreat::report

@@ -24,7 +24,7 @@
 
 #include <nlohmann/json.hpp>
 
-namespace retreat::bridge {
+namespace retreat::report {
 
 /// Checks `page` against the description above (shape only: field types, equal lengths of
 /// x and y, known kinds, ids unique and well-formed).
@@ -39,4 +39,4 @@ std::string render_figures_page(const nlohmann::json& page);
 /// sees half a page. @throws std::runtime_error when the file cannot be written.
 void write_figures_page(const nlohmann::json& page, const std::string& path);
 
-}  // namespace retreat::bridge
+}  // namespace retreat::report

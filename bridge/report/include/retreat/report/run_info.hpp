@@ -6,9 +6,9 @@
 #include "retreat/scenario/scenario.hpp"
 #include "retreat/telemetry/aggregator.hpp"
 
-namespace retreat::bridge {
+namespace retreat::report {
 
 /// λ* from retreat::model::lambda_star, |D| from retreat::physics::Domain, the rest copied.
 telemetry::RunInfo run_info(const scenario::Scenario& s);
 
-}  // namespace retreat::bridge
+}  // namespace retreat::report

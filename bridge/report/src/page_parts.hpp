@@ -1,15 +1,15 @@
 #pragma once
 // Pieces shared by the self-contained pages (report.cpp, figures.cpp): embedded assets, JSON
-// safe inside <script>, HTML escaping. Private to retreat::bridge.
+// safe inside <script>, HTML escaping. Private to retreat::report.
 
 #include <stdexcept>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
-#include "retreat/bridge/web_assets.hpp"
+#include "retreat/report/web_assets.hpp"
 
-namespace retreat::bridge::detail {
+namespace retreat::report::detail {
 
 /// The embedded file `name` as text; a missing one is a build error, hence logic_error.
 inline std::string asset_text(const char* name) {
@@ -47,4 +47,4 @@ inline std::string html_escape(const std::string& s) {
   return out;
 }
 
-}  // namespace retreat::bridge::detail
+}  // namespace retreat::report::detail

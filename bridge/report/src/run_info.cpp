@@ -1,9 +1,9 @@
-#include "retreat/bridge/run_info.hpp"
+#include "retreat/report/run_info.hpp"
 
 #include "retreat/model/optimum.hpp"
 #include "retreat/physics/domain.hpp"
 
-namespace retreat::bridge {
+namespace retreat::report {
 
 telemetry::RunInfo run_info(const scenario::Scenario& s) {
   const auto& a = s.arena;
@@ -28,4 +28,4 @@ telemetry::RunInfo run_info(const scenario::Scenario& s) {
   return r;
 }
 
-}  // namespace retreat::bridge
+}  // namespace retreat::report

@@ -1,6 +1,6 @@
-#include "retreat/bridge/web_assets.hpp"
+#include "retreat/report/web_assets.hpp"
 
-namespace retreat::bridge {
+namespace retreat::report {
 
 const WebAsset* find_web_asset(std::string_view name) {
   for (const auto& a : web_assets()) {
@@ -23,4 +23,4 @@ std::string_view content_type_for(std::string_view name) {
   return "application/octet-stream";
 }
 
-}  // namespace retreat::bridge
+}  // namespace retreat::report

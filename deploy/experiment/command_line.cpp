@@ -1,0 +1,258 @@
+#include "retreat/experiment/command_line.hpp"
+
+#include <unistd.h>
+
+#include <ctime>
+#include <filesystem>
+#include <optional>
+#include <sstream>
+#include <string>
+
+#include "retreat/core/paths.hpp"
+#include "retreat/scenario/program_options.hpp"
+
+namespace retreat::experiment {
+namespace {
+
+namespace fs = std::filesystem;
+constexpr const char* program = "retreat-experiment";
+
+std::string self_dir() {
+  std::error_code ec;
+  const auto exe = fs::read_symlink("/proc/self/exe", ec);
+  return ec ? std::string(".") : exe.parent_path().string();
+}
+
+/// The shipped scenarios: installed beside bin/ (share/retreat/scenarios), else the source tree.
+std::string default_scenarios() {
+  const auto installed = fs::path(self_dir()) / ".." / "share" / "retreat" / "scenarios";
+  if (retreat::is_directory(installed.string())) return fs::weakly_canonical(installed).string();
+  return RETREAT_SOURCE_SCENARIOS;
+}
+
+std::string default_out(const std::string& subcommand) {
+  const std::time_t now = std::time(nullptr);
+  std::tm local{};
+  localtime_r(&now, &local);
+  char stamp[32];
+  std::strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S", &local);
+  return "runs/experiment-" + subcommand + "-" + stamp;
+}
+
+/// --out, --quick, --scenarios, --launcher on `sub`.
+void add_common(CLI::App* sub, Common& c) {
+  sub->add_option("--out", c.out_dir, "run directory, new or empty (default: runs/experiment-<name>-<time>)");
+  sub->add_flag("--quick", c.quick, "the reduced size: well under two minutes on two cores");
+  sub->add_option("--scenarios", c.scenarios_dir, "directory of the shipped scenarios (default: " +
+                                                      default_scenarios() + ")");
+  sub->add_option("--launcher", c.launcher, "retreat-launch to run (default: beside this program)");
+}
+
+/// The defaults of the common options; the scenarios directory must exist.
+void finish_common(Common& c, const std::string& name) {
+  if (c.out_dir.empty()) c.out_dir = default_out(name);
+  if (c.scenarios_dir.empty()) c.scenarios_dir = default_scenarios();
+  if (!retreat::is_directory(c.scenarios_dir)) {
+    throw UsageError("--scenarios '" + c.scenarios_dir + "': no such directory (the shipped scenarios)");
+  }
+  if (c.launcher.empty()) c.launcher = self_dir() + "/retreat-launch";
+}
+
+void require_launcher(const Common& c) {
+  if (::access(c.launcher.c_str(), X_OK) != 0) {
+    throw UsageError("--launcher '" + c.launcher + "': no such program (retreat-launch)");
+  }
+}
+
+std::vector<double> parse_lambdas(const std::string& text) {
+  std::vector<double> out;
+  std::istringstream in(text);
+  for (std::string item; std::getline(in, item, ',');) {
+    std::size_t used = 0;
+    double v = 0.0;
+    try {
+      v = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != item.size()) {
+      throw UsageError("--lambdas '" + text + "': must be numbers separated by commas, e.g. 0.25,0.5,0.99");
+    }
+    out.push_back(v);
+  }
+  if (out.empty()) throw UsageError("--lambdas '" + text + "': give at least one density");
+  for (const double v : out) {
+    if (!(v > 0.0 && v <= 20.0)) throw UsageError("--lambdas: " + fixed(v, 3) + ": each must be in (0, 20] robots/m²");
+  }
+  return out;
+}
+
+/// An option that keeps its default unless given: CLI11 parses into `raw`, `into` copies it.
+template <class T>
+struct Given {
+  T raw{};
+  CLI::Option* option = nullptr;
+  void into(std::optional<T>& target) const {
+    if (option->count() > 0) target = raw;
+  }
+};
+
+void require_robots(const std::optional<std::uint32_t>& robots) {
+  if (robots && *robots < 2) throw UsageError("--robots " + std::to_string(*robots) + ": must be >= 2");
+}
+
+/// `encounters`: the options, then their check.
+struct EncountersLine {
+  EncountersOptions o;
+  Given<std::uint64_t> seed;
+  Given<std::uint32_t> robots;
+  Given<double> duration;
+  CLI::App* sub = nullptr;
+
+  void add(CLI::App& app) {
+    sub = app.add_subcommand("encounters", "inter-encounter and resolution times, fitted ρ (λ = 0.99, "
+                                           "δ = 0.11, v = 1)");
+    add_common(sub, o.common);
+    seed.option = sub->add_option("--seed", seed.raw, "world seed (default: the scenario's)");
+    robots.option = sub->add_option("--robots", robots.raw, "robots, at the scenario's density (default 200, quick 60)");
+    duration.option = sub->add_option("--duration", duration.raw, "measured seconds (default 100, quick 20)");
+  }
+  EncountersOptions finish() {
+    finish_common(o.common, "encounters");
+    seed.into(o.seed);
+    robots.into(o.robots);
+    duration.into(o.duration);
+    require_robots(o.robots);
+    if (o.duration && !(*o.duration > 0.0)) {
+      throw UsageError("--duration " + std::to_string(*o.duration) + ": must be > 0 (seconds)");
+    }
+    return o;
+  }
+};
+
+/// `throughput`: the options, then their check.
+struct ThroughputLine {
+  ThroughputOptions o;
+  std::string seeds, lambdas;
+  Given<std::uint32_t> robots;
+  Given<double> duration;
+  CLI::App* sub = nullptr;
+
+  void add(CLI::App& app) {
+    sub = app.add_subcommand("throughput", "simulated T(λ)λ over a grid of λ against the CTMC curve");
+    add_common(sub, o.common);
+    sub->add_option("--seeds", seeds, "world seeds A:B, pooled at each density (default: the scenario's seed)");
+    robots.option = sub->add_option("--robots", robots.raw, "robots per density (default 200, quick 40)");
+    duration.option = sub->add_option("--duration", duration.raw, "measured seconds (default 2500, quick 500)");
+    sub->add_option("--lambdas", lambdas, "densities, comma-separated (default 0.25,0.5,0.75,0.99,1.5,2,3,4; "
+                                          "quick 0.5,0.99,2; 0.99 is always added: ρ is fitted there)");
+  }
+  ThroughputOptions finish() {
+    finish_common(o.common, "throughput");
+    if (!seeds.empty()) o.seeds = parse_seed_range(seeds, "--seeds");
+    robots.into(o.robots);
+    duration.into(o.duration);
+    if (!lambdas.empty()) o.lambdas = parse_lambdas(lambdas);
+    require_robots(o.robots);
+    if (o.duration && !(*o.duration > 0.0)) {
+      throw UsageError("--duration " + fixed(*o.duration, 1) + ": must be > 0 (seconds)");
+    }
+    return o;
+  }
+};
+
+/// `robotarium`: the options, then their check.
+struct RobotariumLine {
+  RobotariumOptions o;
+  std::string seeds, process_seeds;
+  Given<int> domain;
+  Given<double> duration;
+  CLI::App* sub = nullptr;
+
+  void add(CLI::App& app) {
+    sub = app.add_subcommand("robotarium", "population against time over many seeds (processes, in-process, "
+                                           "endless queue, kinetic world)");
+    add_common(sub, o.common);
+    sub->add_option("--seeds", seeds, "in-process seeds A:B (default 1:100, quick 1:3)");
+    sub->add_option("--process-seeds", process_seeds, "seeds A:B with agent processes (default 1:5, quick 1:2)");
+    sub->add_flag("--no-processes", o.no_processes, "skip the set-up with agent processes");
+    sub->add_option("--dds", o.dds, "vendor of the agent processes: fastdds or cyclonedds (default fastdds)");
+    domain.option = sub->add_option("--domain", domain.raw, "DDS domain of the process runs (default: a free one)");
+    duration.option = sub->add_option("--process-duration", duration.raw,
+                                      "simulated seconds of the process runs (default: the scenario's 1200, quick 150)");
+  }
+  RobotariumOptions finish() {
+    finish_common(o.common, "robotarium");
+    if (!seeds.empty()) o.seeds = parse_seed_range(seeds, "--seeds");
+    if (!process_seeds.empty()) o.process_seeds = parse_seed_range(process_seeds, "--process-seeds");
+    if (domain.option->count() > 0 && (domain.raw < 0 || domain.raw > 232)) {
+      throw UsageError("--domain " + std::to_string(domain.raw) + ": must be an integer in 0..232");
+    }
+    domain.into(o.domain);
+    duration.into(o.process_duration);
+    require_launcher(o.common);
+    if (o.dds != "fastdds" && o.dds != "cyclonedds") {
+      throw UsageError("--dds '" + o.dds + "': must be fastdds or cyclonedds");
+    }
+    if (o.process_duration && !(*o.process_duration > 0.0)) {
+      throw UsageError("--process-duration " + fixed(*o.process_duration, 1) + ": must be > 0 (seconds)");
+    }
+    return o;
+  }
+};
+
+/// `controllers`: the options, then their check.
+struct ControllersLine {
+  ControllersOptions o;
+  std::string seeds;
+  CLI::App* sub = nullptr;
+
+  void add(CLI::App& app) {
+    sub = app.add_subcommand("controllers", "every registered controller against paper on the same seeds");
+    add_common(sub, o.common);
+    sub->add_option("--seeds", seeds, "seeds A:B (default 1:100, quick 1:3)");
+  }
+  ControllersOptions finish() {
+    finish_common(o.common, "controllers");
+    if (!seeds.empty()) o.seeds = parse_seed_range(seeds, "--seeds");
+    require_launcher(o.common);
+    return o;
+  }
+};
+
+}  // namespace
+
+std::variant<ExperimentCommand, int> parse_command_line(int argc, char** argv) {
+  CLI::App app{"retreat-experiment: reproduces the paper's results (encounters, throughput, robotarium) and "
+               "compares controllers, each into a run directory with data and report.html"};
+  app.require_subcommand(1);
+  EncountersLine encounters;
+  ThroughputLine throughput;
+  RobotariumLine robotarium;
+  ControllersLine controllers;
+  encounters.add(app);
+  throughput.add(app);
+  robotarium.add(app);
+  controllers.add(app);
+  // CLI11 would say only "A subcommand is required" for a misspelt one: name it.
+  const auto known = [&](const std::string& word) {
+    for (const auto* sub : {encounters.sub, throughput.sub, robotarium.sub, controllers.sub}) {
+      if (sub->get_name() == word) return true;
+    }
+    return false;
+  };
+  if (argc > 1 && argv[1][0] != '-' && !known(argv[1])) {
+    scenario::report_error(program, std::string("'") + argv[1] +
+                                        "': no such subcommand (encounters, throughput, robotarium or controllers)");
+    return 2;
+  }
+  if (const auto code = scenario::parse_command_line(app, argc, argv, program)) return *code;
+  return scenario::guarded(program, [&]() -> std::variant<ExperimentCommand, int> {
+    if (encounters.sub->parsed()) return ExperimentCommand{encounters.finish()};
+    if (throughput.sub->parsed()) return ExperimentCommand{throughput.finish()};
+    if (robotarium.sub->parsed()) return ExperimentCommand{robotarium.finish()};
+    return ExperimentCommand{controllers.finish()};
+  });
+}
+
+}  // namespace retreat::experiment
