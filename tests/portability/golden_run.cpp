@@ -29,7 +29,8 @@ int main(int argc, char** argv) {
   scenario::Scenario s;
   try {
     std::ifstream in(hashes_path);
-    for (const auto& c : nlohmann::json::parse(in).at("cases")) {
+    const auto golden = nlohmann::json::parse(in);
+    for (const auto& c : golden.at("cases")) {
       if (c.at("name") == name) recorded = c;
     }
     if (recorded.is_null()) throw std::invalid_argument("no case '" + name + "' in " + hashes_path);
