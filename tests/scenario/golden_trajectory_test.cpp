@@ -56,7 +56,7 @@ TEST_P(GoldenTrajectory, TheLauncherInProcessDecidesExactlyAsRecorded) {
     const auto j = run_in_process(GetParam(), overrides_of(c));
     ASSERT_FALSE(j.empty());
     EXPECT_EQ(j["controller"], c.at("controller"));
-    EXPECT_EQ(j["ticks"], 40000);
+    EXPECT_EQ(j["ticks"], c.at("ticks"));  // fewer than 40,000 where every robot left early
     EXPECT_EQ(j["agents"]["retreated"], c.at("retreated"));
     EXPECT_EQ(j["trajectory_sha256"], c.at("trajectory_sha256"));
     return;
