@@ -125,6 +125,9 @@ struct VendorCase {
   int domain;
 };
 
+// Test names from the values, not from the bytes of a pointer (which differ between builds).
+void PrintTo(const VendorCase& c, std::ostream* os) { *os << c.vendor << " on domain " << c.domain; }
+
 class SecureSwarm : public ::testing::TestWithParam<VendorCase> {};
 
 TEST_P(SecureSwarm, CompletesWithThePlainRunsTrajectoryHash) {
