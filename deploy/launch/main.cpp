@@ -89,6 +89,81 @@ void report(const nlohmann::json& j, const std::string& dir) {
                hash.substr(0, 16).c_str(), dir.c_str());
 }
 
+/// Process mode: the DDS domain this run holds while it runs (--domain, or a free one in
+/// 1..99). An empty optional after a one-line refusal.
+std::optional<launch::DomainLock> lock_domain(const launch::Plan& plan) {
+  if (plan.domain) {
+    auto lock = launch::DomainLock::try_lock(*plan.domain);
+    if (!lock) {
+      std::fprintf(stderr,
+                   "retreat-launch: --domain %d: another retreat-launch run on this host "
+                   "uses it (%s is locked); pick another\n",
+                   *plan.domain, launch::DomainLock::path(*plan.domain).c_str());
+    }
+    return lock;
+  }
+  try {
+    return launch::DomainLock::pick_free(first_free_domain, last_free_domain);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "retreat-launch: %s\n", e.what());
+    return std::nullopt;
+  }
+}
+
+/// Process mode: what is about to start, where, and where the dashboard will be.
+void announce(const launch::Plan& plan, int domain, const std::string& out) {
+  const std::uint32_t n = plan.scenario.arena.robots_inside + plan.scenario.arena.robots_waiting;
+  std::fprintf(stderr,
+               "retreat-launch: %s: retreat-arena (%s) and %u retreat-agent processes "
+               "(%s)%s on DDS domain %d; run directory %s\n",
+               plan.scenario.name.c_str(), plan.vendors.arena.c_str(), n, plan.vendors.label.c_str(),
+               plan.endless ? " plus one per robot that joins the queue" : "", domain, out.c_str());
+  if (!plan.bridge_exe.empty()) {
+    const auto& http = plan.scenario.bridge.http;
+    std::fprintf(stderr,
+                 "retreat-launch: retreat-bridge serves the dashboard on %s (logs/bridge.log "
+                 "names the port when bridge.http asks for a free one) and writes report.html\n",
+                 (http.ends_with(":0") ? http : "http://" + http + "/").c_str());
+  }
+  if (plan.bridge_missing) {
+    std::fprintf(stderr,
+                 "retreat-launch: no bridge is built (no retreat-bridge beside "
+                 "retreat-arena); running without it (--no-bridge: quietly)\n");
+  }
+}
+
+/// Runs every seed of the plan into `out` (OUT/seed_<n>/ for several); returns the exit code.
+int run_seeds(const launch::Plan& plan, const std::string& out, int domain) {
+  const bool in_process = plan.options.in_process;
+  std::vector<nlohmann::json> summaries;
+  for (const auto seed_n : plan.seeds) {
+    const std::string dir = plan.multi_seed ? out + "/seed_" + std::to_string(seed_n) : out;
+    const auto result = in_process ? launch::run_in_process(plan, seed_n, dir)
+                                   : launch::run_processes(plan, seed_n, dir, domain);
+    if (!result.summary.is_null()) {
+      report(result.summary, dir);
+      summaries.push_back(result.summary);
+    }
+    if (result.stopped) {
+      const int signo = launch::stop_signal.load();
+      std::fprintf(stderr, "retreat-launch: stopped by signal %d%s\n", signo,
+                   in_process ? "" : "; every child stopped");
+      return 128 + signo;
+    }
+  }
+  if (plan.multi_seed) {
+    const auto j = launch::write_seeds_summary(out, summaries);
+    std::fprintf(stderr,
+                 "retreat-launch: %zu seeds: population mean of the last 300 s %.2f ± %.2f "
+                 "(std over seeds); %s/seeds_summary.json\n",
+                 summaries.size(),
+                 j.value(nlohmann::json::json_pointer("/population/mean_last_300s/mean"), 0.0),
+                 j.value(nlohmann::json::json_pointer("/population/mean_last_300s/std"), 0.0),
+                 out.c_str());
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -96,84 +171,20 @@ int main(int argc, char** argv) {
       "retreat-launch", [&] { return launch::parse_command_line(argc, argv, self_dir()); });
   if (const auto* code = std::get_if<int>(&parsed)) return *code;
   const auto& plan = std::get<launch::LaunchCommandLine>(parsed).plan;
-  const auto& o = plan.options;
   if (std::get<launch::LaunchCommandLine>(parsed).print_config) {
     std::cout << scenario::dump(plan.scenario);
     return 0;
   }
   std::optional<launch::DomainLock> lock;
-  if (!o.in_process) {
-    if (plan.domain) {
-      lock = launch::DomainLock::try_lock(*plan.domain);
-      if (!lock) {
-        std::fprintf(stderr,
-                     "retreat-launch: --domain %d: another retreat-launch run on this host "
-                     "uses it (%s is locked); pick another\n",
-                     *plan.domain, launch::DomainLock::path(*plan.domain).c_str());
-        return 2;
-      }
-    } else {
-      try {
-        lock = launch::DomainLock::pick_free(first_free_domain, last_free_domain);
-      } catch (const std::exception& e) {
-        std::fprintf(stderr, "retreat-launch: %s\n", e.what());
-        return 2;
-      }
-    }
+  if (!plan.options.in_process) {
+    lock = lock_domain(plan);
+    if (!lock) return 2;
   }
   install_signal_handlers();
-  const std::string out = o.out_dir.empty() ? default_out_dir() : o.out_dir;
-
-  if (!o.in_process) {
-    std::uint32_t n = plan.scenario.arena.robots_inside + plan.scenario.arena.robots_waiting;
-    std::fprintf(stderr,
-                 "retreat-launch: %s: retreat-arena (%s) and %u retreat-agent processes "
-                 "(%s)%s on DDS domain %d; run directory %s\n",
-                 plan.scenario.name.c_str(), plan.vendors.arena.c_str(), n,
-                 plan.vendors.label.c_str(),
-                 plan.endless ? " plus one per robot that joins the queue" : "", lock->domain(),
-                 out.c_str());
-    if (!plan.bridge_exe.empty()) {
-      const auto& http = plan.scenario.bridge.http;
-      std::fprintf(stderr,
-                   "retreat-launch: retreat-bridge serves the dashboard on %s (logs/bridge.log "
-                   "names the port when bridge.http asks for a free one) and writes report.html\n",
-                   (http.ends_with(":0") ? http : "http://" + http + "/").c_str());
-    }
-    if (plan.bridge_missing) {
-      std::fprintf(stderr,
-                   "retreat-launch: no bridge is built (no retreat-bridge beside "
-                   "retreat-arena); running without it (--no-bridge: quietly)\n");
-    }
-  }
-
-  std::vector<nlohmann::json> summaries;
+  const std::string out = plan.options.out_dir.empty() ? default_out_dir() : plan.options.out_dir;
+  if (lock) announce(plan, lock->domain(), out);
   try {
-    for (const auto seed_n : plan.seeds) {
-      const std::string dir = plan.multi_seed ? out + "/seed_" + std::to_string(seed_n) : out;
-      const auto result = o.in_process ? launch::run_in_process(plan, seed_n, dir)
-                                       : launch::run_processes(plan, seed_n, dir, lock->domain());
-      if (!result.summary.is_null()) {
-        report(result.summary, dir);
-        summaries.push_back(result.summary);
-      }
-      if (result.stopped) {
-        const int signo = launch::stop_signal.load();
-        std::fprintf(stderr, "retreat-launch: stopped by signal %d%s\n", signo,
-                     o.in_process ? "" : "; every child stopped");
-        return 128 + signo;
-      }
-    }
-    if (plan.multi_seed) {
-      const auto j = launch::write_seeds_summary(out, summaries);
-      std::fprintf(stderr,
-                   "retreat-launch: %zu seeds: population mean of the last 300 s %.2f ± %.2f "
-                   "(std over seeds); %s/seeds_summary.json\n",
-                   summaries.size(),
-                   j.value(nlohmann::json::json_pointer("/population/mean_last_300s/mean"), 0.0),
-                   j.value(nlohmann::json::json_pointer("/population/mean_last_300s/std"), 0.0),
-                   out.c_str());
-    }
+    return run_seeds(plan, out, lock ? lock->domain() : -1);
   } catch (const launch::RunFailure& e) {
     std::fprintf(stderr, "retreat-launch: run failed: %s\n", e.what());
     return 1;
@@ -184,5 +195,4 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "retreat-launch: run failed: %s\n", e.what());
     return 1;
   }
-  return 0;
 }

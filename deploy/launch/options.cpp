@@ -40,32 +40,25 @@ std::vector<std::string> overrides_for_seed(const Plan& plan, std::uint64_t seed
   return out;
 }
 
-Plan make_plan(const LaunchOptions& options, const std::string& self_dir) {
-  namespace fs = std::filesystem;
-  Plan plan;
-  plan.options = options;
-  const auto& o = options;
+namespace {
 
-  // The scenario file first: everything else is about it.
-  if (!retreat::is_regular_file(o.scenario_path)) {
-    throw UsageError("SCENARIO '" + o.scenario_path + "': no such file (a YAML scenario file)");
-  }
-
-  // Seeds.
+/// --seeds A:B into plan.seeds (several runs); --seed with --seeds is refused.
+void plan_seeds(const LaunchOptions& o, Plan& plan) {
   if (!o.seeds.empty() && o.seed) {
     throw UsageError("--seed " + std::to_string(*o.seed) + " with --seeds " + o.seeds +
                      ": give one or the other");
   }
-  if (!o.seeds.empty()) {
-    const auto range = parse_seed_range(o.seeds);
-    for (auto s = range.first;; ++s) {
-      plan.seeds.push_back(s);
-      if (s == range.last) break;
-    }
-    plan.multi_seed = true;
+  if (o.seeds.empty()) return;
+  const auto range = parse_seed_range(o.seeds);
+  for (auto s = range.first;; ++s) {
+    plan.seeds.push_back(s);
+    if (s == range.last) break;
   }
+  plan.multi_seed = true;
+}
 
-  // Middleware.
+/// --dds (a built vendor, or `mixed` where both are built; not in process) and --domain.
+void check_middleware(const LaunchOptions& o) {
   const auto vendors = transport::dds_vendors();
   auto built = [&](const std::string& v) { return std::find(vendors.begin(), vendors.end(), v) != vendors.end(); };
   if (!o.dds.empty()) {
@@ -87,47 +80,42 @@ Plan make_plan(const LaunchOptions& options, const std::string& self_dir) {
     throw UsageError("--domain " + std::to_string(*o.domain) + ": must be an integer in 0.." +
                      std::to_string(transport::max_domain_id));
   }
+}
 
-  // The scenario with every override, exactly as the children will resolve it.
+/// The scenario with every override, exactly as the children will resolve it (the first seed's);
+/// plan.overrides keep no seed: overrides_for_seed() appends it.
+void resolve_scenario(const LaunchOptions& o, Plan& plan) {
   plan.overrides = o.overrides;
   if (!o.dds.empty() && o.dds != "mixed") plan.overrides.push_back("dds.vendor=" + o.dds);
   if (o.domain) plan.overrides.push_back("dds.domain=" + std::to_string(*o.domain));
-  if (!plan.multi_seed) {
-    // --seed N, or the scenario's own seed (read below).
-    if (o.seed) plan.overrides.push_back("seed=" + std::to_string(*o.seed));
-  }
+  // --seed N, or the scenario's own seed (read below).
+  if (!plan.multi_seed && o.seed) plan.overrides.push_back("seed=" + std::to_string(*o.seed));
   auto first = plan.overrides;
   if (plan.multi_seed) first.push_back("seed=" + std::to_string(plan.seeds.front()));
   plan.scenario = scenario::load(o.scenario_path, first);
   if (!plan.multi_seed) plan.seeds.push_back(plan.scenario.seed);
-  // overrides_for_seed() appends the seed itself.
   std::erase_if(plan.overrides, [](const std::string& s) { return s.rfind("seed=", 0) == 0; });
   plan.endless = plan.scenario.arena.queue == physics::QueueKind::endless;
+}
 
-  if (!o.arena_profile.empty()) {
-    if (o.in_process) throw UsageError("--arena-profile: not used with --in-process (no DDS)");
-    if (!retreat::is_regular_file(o.arena_profile)) {
-      throw UsageError("--arena-profile '" + o.arena_profile + "': no such file (a DDS XML profile "
-                       "for the arena, e.g. deploy/dds/fastdds-discovery-server-hub.xml)");
-    }
+/// --in-process: lockstep, no DDS Security.
+void plan_in_process(Plan& plan) {
+  if (plan.scenario.dds.security == scenario::Security::on) {
+    throw UsageError("dds.security = on: not used with --in-process (the in-memory transport has "
+                     "no DDS Security)");
   }
-  const bool secure = plan.scenario.dds.security == scenario::Security::on;
-  if (o.in_process) {
-    if (secure) {
-      throw UsageError("dds.security = on: not used with --in-process (the in-memory transport has "
-                       "no DDS Security)");
-    }
-    plan.vendors = {"inmemory", "inmemory"};
-    if (plan.scenario.run.mode != scenario::RunMode::lockstep) {
-      throw UsageError("run.mode = " + std::string(retreat::name_of(plan.scenario.run.mode)) +
-                       ": --in-process steps the arena and the agents in lockstep only");
-    }
-    return plan;
+  plan.vendors = {"inmemory", "inmemory"};
+  if (plan.scenario.run.mode != scenario::RunMode::lockstep) {
+    throw UsageError("run.mode = " + std::string(retreat::name_of(plan.scenario.run.mode)) +
+                     ": --in-process steps the arena and the agents in lockstep only");
   }
+}
 
-  // Process mode.
+/// Process mode: the vendors, the domain, and the programs to start.
+void plan_processes(const LaunchOptions& o, const std::string& self_dir, Plan& plan) {
   // --dds names a vendor (already in the scenario through dds.vendor) or the launcher's `mixed`.
   const bool mixed = o.dds == "mixed";
+  const bool secure = plan.scenario.dds.security == scenario::Security::on;
   if (!mixed && plan.scenario.dds.vendor == scenario::Vendor::inmemory) {
     throw UsageError("dds.vendor = inmemory: separate processes need fastdds or cyclonedds "
                      "(or use --in-process)");
@@ -141,7 +129,10 @@ Plan make_plan(const LaunchOptions& options, const std::string& self_dir) {
   const std::string vendor(retreat::name_of(plan.scenario.dds.vendor));  // the children's --dds
   plan.vendors = mixed ? VendorPlan{"mixed", "cyclonedds"} : VendorPlan{vendor, vendor};
   // Every child resolves the PKI directory from its own working directory: make it absolute.
-  if (secure) plan.overrides.push_back("dds.security_dir=" + fs::absolute(plan.scenario.dds.security_dir).string());
+  if (secure) {
+    plan.overrides.push_back("dds.security_dir=" +
+                             std::filesystem::absolute(plan.scenario.dds.security_dir).string());
+  }
   // The domain: --domain, or --set dds.domain=N; otherwise a free one is picked at run time.
   if (o.domain || sets_key(o.overrides, "dds.domain")) plan.domain = plan.scenario.dds.domain;
   const std::string dir = o.bin_dir.empty() ? self_dir : o.bin_dir;
@@ -160,6 +151,33 @@ Plan make_plan(const LaunchOptions& options, const std::string& self_dir) {
     } else {
       plan.bridge_missing = true;
     }
+  }
+}
+
+}  // namespace
+
+Plan make_plan(const LaunchOptions& options, const std::string& self_dir) {
+  Plan plan;
+  plan.options = options;
+  const auto& o = options;
+  // The scenario file first: everything else is about it.
+  if (!retreat::is_regular_file(o.scenario_path)) {
+    throw UsageError("SCENARIO '" + o.scenario_path + "': no such file (a YAML scenario file)");
+  }
+  plan_seeds(o, plan);
+  check_middleware(o);
+  resolve_scenario(o, plan);
+  if (!o.arena_profile.empty()) {
+    if (o.in_process) throw UsageError("--arena-profile: not used with --in-process (no DDS)");
+    if (!retreat::is_regular_file(o.arena_profile)) {
+      throw UsageError("--arena-profile '" + o.arena_profile + "': no such file (a DDS XML profile "
+                       "for the arena, e.g. deploy/dds/fastdds-discovery-server-hub.xml)");
+    }
+  }
+  if (o.in_process) {
+    plan_in_process(plan);
+  } else {
+    plan_processes(o, self_dir, plan);
   }
   return plan;
 }
