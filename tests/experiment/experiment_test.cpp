@@ -36,7 +36,7 @@ std::string fresh_dir(const std::string& name) {
 
 /// Runs retreat-experiment with `args`; returns the exit code and its output.
 std::pair<int, std::string> run(const std::string& dir, std::vector<std::string> args,
-                                std::chrono::milliseconds timeout = 150s) {
+                                std::chrono::milliseconds timeout = retreat::testing::hang_ceiling) {
   args.insert(args.begin(), program);
   return retreat::testing::run_to_exit(args, dir + "/experiment.log", timeout);
 }
@@ -275,7 +275,7 @@ TEST_P(ExperimentBadInput, GetsOneLineAndExitCodeTwo) {
   const auto& c = GetParam();
   const auto dir = fresh_dir("bad-" + c.name);
   auto args = c.args;
-  const auto [code, output] = run(dir, args, 20s);
+  const auto [code, output] = run(dir, args);
   EXPECT_EQ(code, 2) << output;
   EXPECT_EQ(lines(output), 1u) << output;
   EXPECT_NE(output.find(c.named), std::string::npos) << output;

@@ -215,7 +215,7 @@ TEST(BridgeApi, EveryEndpointServesTheScriptedSwarm) {
   EXPECT_EQ(s_writer.matched_count(), 1u);
 
   // SIGTERM: exit 0, agent statuses recorded, and a report in the run directory.
-  EXPECT_EQ(b.process->stop(10s), 0) << testing::read_file(b.log);
+  EXPECT_EQ(b.process->stop(retreat::testing::hang_ceiling), 0) << testing::read_file(b.log);
   EXPECT_TRUE(fs::exists(dir + "/run/report.html")) << testing::read_file(b.log);
   const auto statuses = testing::read_file(dir + "/run/agent_status.csv");
   EXPECT_EQ(std::count(statuses.begin(), statuses.end(), '\n'), 1 + 3) << statuses;

@@ -200,7 +200,7 @@ Browser::Browser(const std::string& profile_dir, int width, int height, const st
   from_browser_ = from_child[0];
 
   try {
-    const auto target = call("Target.createTarget", {{"url", "about:blank"}}, false, 30s);
+    const auto target = call("Target.createTarget", {{"url", "about:blank"}}, false, retreat::testing::hang_ceiling);
     const auto attached = call("Target.attachToTarget", {{"targetId", target["targetId"]}, {"flatten", true}}, false);
     session_ = attached["sessionId"].get<std::string>();
     call("Runtime.enable", json::object());
@@ -333,7 +333,7 @@ json Browser::evaluate(const std::string& expression) {
 }
 
 void Browser::screenshot(const std::string& png_path) {
-  const auto r = call("Page.captureScreenshot", {{"format", "png"}}, true, 30s);
+  const auto r = call("Page.captureScreenshot", {{"format", "png"}}, true, retreat::testing::hang_ceiling);
   std::ofstream(png_path, std::ios::binary) << base64_decode(r["data"].get<std::string>());
 }
 

@@ -31,7 +31,7 @@ struct Bridge {
 /// Starts retreat-bridge with `args` (after the program path) and waits up to `timeout` for its
 /// `retreat-bridge: serving http://...` line; `url` stays empty if it never came.
 Bridge start_bridge(const std::vector<std::string>& args, const std::string& log,
-                    std::chrono::milliseconds timeout = std::chrono::seconds(20));
+                    std::chrono::milliseconds timeout = testing::hang_ceiling);
 
 /// GET on 127.0.0.1:port; nullopt when no answer. Returns status and body.
 struct Reply {
@@ -64,7 +64,7 @@ class Browser {
   static bool available();
 
   /// Navigates the page and waits for its load event (up to `timeout`).
-  void navigate(const std::string& url, std::chrono::milliseconds timeout = std::chrono::seconds(15));
+  void navigate(const std::string& url, std::chrono::milliseconds timeout = testing::hang_ceiling);
   /// Evaluates `expression` in the page; returns its value (JSON), null on failure.
   nlohmann::json evaluate(const std::string& expression);
   /// Saves a PNG screenshot of the viewport.
@@ -74,7 +74,7 @@ class Browser {
 
  private:
   nlohmann::json call(const std::string& method, const nlohmann::json& params, bool in_session = true,
-                      std::chrono::milliseconds timeout = std::chrono::seconds(15));
+                      std::chrono::milliseconds timeout = testing::hang_ceiling);
   void read_messages(std::chrono::milliseconds timeout);
   void on_event(const nlohmann::json& message);
   pid_t pid_ = -1;

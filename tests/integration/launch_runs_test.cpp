@@ -188,7 +188,7 @@ TEST(LaunchRuns, TheBridgeIsStartedBesideTheSwarmAndStoppedAfterIt) {
   const auto dir = fresh_dir("bridge");
   ASSERT_EQ(run_launch(dir, {robotarium, "--dds", vendor, "--domain", std::to_string(domain_bridge),
                              "--set", "run.duration=100", "--set", "bridge.http=127.0.0.1:0"},
-                       90s, /*bridge=*/true), 0) << log_of(dir);
+                       retreat::testing::hang_ceiling, /*bridge=*/true), 0) << log_of(dir);
   const auto j = read_json(dir + "/run/summary.json");
   ASSERT_FALSE(j.empty());
   EXPECT_EQ(j["launch"]["bridge"], true);
@@ -212,7 +212,7 @@ TEST(LaunchRuns, InACycloneStarTheBridgeHearsEveryAgent) {
                              "--arena-profile", profiles + "cyclonedds-star-hub.xml", "--set",
                              "dds.profile=" + profiles + "cyclonedds-star-agent.xml", "--set", "agent.K_p=0",
                              "--set", "agent.lambda_in=0", "--set", "bridge.http=127.0.0.1:0"},
-                       90s, /*bridge=*/true), 0) << log_of(dir);
+                       retreat::testing::hang_ceiling, /*bridge=*/true), 0) << log_of(dir);
   std::ifstream statuses(dir + "/run/agent_status.csv");
   ASSERT_TRUE(statuses.good()) << log_of(dir);
   std::string line;
