@@ -61,16 +61,17 @@ ArenaNode::ArenaNode(const scenario::Scenario& scenario, transport::Transport& t
 ArenaNode::~ArenaNode() = default;
 
 ArenaNode::Robot& ArenaNode::robot(std::uint32_t id) {
-  auto& slot = robots_[id];
-  if (!slot) {
+  // Ids are dense (the world's 0 .. robot_count()−1): every id up to this one gets its endpoints.
+  while (robots_.size() <= id) {
+    const auto next = static_cast<std::uint32_t>(robots_.size());
     const auto& prefix = scenario_.dds.prefix;
-    slot = std::make_unique<Robot>(Robot{
-        id,
-        transport_.create_writer<wire::ProximityFrame>({wire::proximity_topic(prefix, id), transport::QosIntent::control()}),
-        transport_.create_reader<wire::Decision>({wire::decision_topic(prefix, id), transport::QosIntent::control()}),
-        AgentRecord{id}});
+    robots_.push_back(std::make_unique<Robot>(Robot{
+        next,
+        transport_.create_writer<wire::ProximityFrame>({wire::proximity_topic(prefix, next), transport::QosIntent::control()}),
+        transport_.create_reader<wire::Decision>({wire::decision_topic(prefix, next), transport::QosIntent::control()}),
+        AgentRecord{next}}));
   }
-  return *slot;
+  return *robots_[id];
 }
 
 std::uint32_t ArenaNode::wait_for_agents(std::chrono::nanoseconds timeout, const KeepGoing& keep_going) {
@@ -83,12 +84,12 @@ std::uint32_t ArenaNode::wait_for_agents(std::chrono::nanoseconds timeout, const
   };
   for (;;) {
     std::uint32_t n = 0;
-    for (const auto& [id, r] : robots_) n += matched(*r) || departed(*r) ? 1 : 0;
+    for (const auto& r : robots_) n += matched(*r) || departed(*r) ? 1 : 0;
     if (n == robots_.size() || std::chrono::steady_clock::now() >= deadline || !keep_going()) break;
     std::this_thread::sleep_for(10ms);
   }
   agents_started_ = 0;
-  for (auto& [id, r] : robots_) {
+  for (auto& r : robots_) {
     r->record.matched = matched(*r);
     if (r->record.matched) {
       ++agents_started_;
@@ -144,7 +145,8 @@ void ArenaNode::publish_observations() {
 }
 
 void ArenaNode::take_decisions(Robot& r, std::int64_t current) {
-  for (const auto& d : r.decisions.take()) {
+  r.decisions.take(taken_);
+  for (const auto& d : taken_) {
     if (r.phase == wire::Phase::departed) continue;  // the answer to its last frame: nothing to do
     if (d.robot_id >= world_->robot_count()) {
       ++counters_.unknown_robot;
@@ -165,18 +167,16 @@ void ArenaNode::take_decisions(Robot& r, std::int64_t current) {
 }
 
 bool ArenaNode::all_answered() const {
-  for (const auto& [id, r] : robots_) {
+  for (const auto& r : robots_) {
     if (r->expecting && !r->answered && !r->record.lost) return false;
   }
   return true;
 }
 
 void ArenaNode::collect_available() {
-  // Once per call, not per robot: tick() and the recount are O(robots) each.
+  // Once per call, not per robot.
   const auto current = tick();
-  for (auto& [id, r] : robots_) take_decisions(*r, current);
-  counters_.invalid = 0;
-  for (const auto& [id, r] : robots_) counters_.invalid += r->decisions.stats().dropped_total();
+  for (auto& r : robots_) take_decisions(*r, current);
 }
 
 bool ArenaNode::collect_lockstep(const KeepGoing& keep_going) {
@@ -196,7 +196,7 @@ bool ArenaNode::collect_lockstep(const KeepGoing& keep_going) {
       next_resend += resend_interval;
     }
     if (std::chrono::steady_clock::now() >= deadline) {
-      for (auto& [id, r] : robots_) {
+      for (auto& r : robots_) {
         if (r->expecting && !r->answered && !r->record.lost) {
           r->record.lost = true;
           r->record.lost_at = world_->telemetry().time;
@@ -266,11 +266,18 @@ bool ArenaNode::finished() const {
   return t.inside == 0 && t.retreating == 0 && t.waiting == 0 && t.tick > 0;
 }
 
+DecisionCounters ArenaNode::decisions() const {
+  DecisionCounters c = counters_;
+  c.invalid = 0;
+  for (const auto& r : robots_) c.invalid += r->decisions.stats().dropped_total();
+  return c;
+}
+
 std::int64_t ArenaNode::tick() const { return world_->telemetry().tick; }
 
 std::uint32_t ArenaNode::agents_lost() const {
   std::uint32_t n = 0;
-  for (const auto& [id, r] : robots_) n += r->record.lost && r->record.matched ? 1 : 0;
+  for (const auto& r : robots_) n += r->record.lost && r->record.matched ? 1 : 0;
   return n;
 }
 
@@ -281,7 +288,8 @@ RunSummary ArenaNode::finish(double wall_seconds) {
   s.wall_seconds = wall_seconds;
   s.agents_started = agents_started_;
   s.agents_lost = agents_lost();
-  s.decisions_dropped = counters_.stale + counters_.future + counters_.unknown_robot + counters_.invalid;
+  const auto counters = decisions();
+  s.decisions_dropped = counters.stale + counters.future + counters.unknown_robot + counters.invalid;
   s.frames_resent = counters_.resent_frames;
   s.decisions_received = counters_.received;
   s.resumed_at_tick = resumed_at_tick_;
@@ -289,7 +297,7 @@ RunSummary ArenaNode::finish(double wall_seconds) {
   s.dds = std::string(transport_.vendor());
   if (recorder_ != nullptr) {
     std::vector<AgentRecord> agents;
-    for (const auto& [id, r] : robots_) agents.push_back(r->record);
+    for (const auto& r : robots_) agents.push_back(r->record);
     recorder_->finish(*world_, agents, s);
   }
   return s;

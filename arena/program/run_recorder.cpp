@@ -116,7 +116,7 @@ void RunRecorder::record_tick(const physics::Telemetry& t, bool write) {
              << ',' << t.onsets;
   for (const auto n : t.state_counts) telemetry_ << ',' << n;
   telemetry_ << '\n';
-  telemetry_.flush();  // a killed arena leaves every tick it stepped (--resume starts there)
+  if (flush_each_tick_) telemetry_.flush();  // a killed arena leaves every tick it stepped (--resume)
 }
 
 void RunRecorder::record_contacts(const std::vector<physics::ContactRecord>& records) {

@@ -48,8 +48,18 @@ void add_common(CLI::App* sub, Common& c) {
   sub->add_option("--launcher", c.launcher, "retreat-launch to run (default: beside this program)");
 }
 
+/// --jobs on a subcommand whose in-process seeds retreat-launch runs (robotarium, controllers).
+void add_jobs(CLI::App* sub, Common& c) {
+  sub->add_option("--jobs", c.jobs,
+                  "in-process seeds run at once, 1..256, passed to retreat-launch --jobs (default: "
+                  "the core count)");
+}
+
 /// The defaults of the common options; the scenarios directory must exist.
 void finish_common(Common& c, const std::string& name) {
+  if (c.jobs && (*c.jobs < 1 || *c.jobs > 256)) {
+    throw UsageError("--jobs " + std::to_string(*c.jobs) + ": must be an integer in 1..256");
+  }
   if (c.out_dir.empty()) c.out_dir = default_out(name);
   if (c.scenarios_dir.empty()) c.scenarios_dir = default_scenarios();
   if (!retreat::is_directory(c.scenarios_dir)) {
@@ -173,6 +183,7 @@ struct RobotariumLine {
     sub = app.add_subcommand("robotarium", "population against time over many seeds (processes, in-process, "
                                            "endless queue, kinetic world)");
     add_common(sub, o.common);
+    add_jobs(sub, o.common);
     sub->add_option("--seeds", seeds, "in-process seeds A:B (default 1:100, quick 1:3)");
     sub->add_option("--process-seeds", process_seeds, "seeds A:B with agent processes (default 1:5, quick 1:2)");
     sub->add_flag("--no-processes", o.no_processes, "skip the set-up with agent processes");
@@ -210,6 +221,7 @@ struct ControllersLine {
   void add(CLI::App& app) {
     sub = app.add_subcommand("controllers", "every registered controller against paper on the same seeds");
     add_common(sub, o.common);
+    add_jobs(sub, o.common);
     sub->add_option("--seeds", seeds, "seeds A:B (default 1:100, quick 1:3)");
   }
   ControllersOptions finish() {

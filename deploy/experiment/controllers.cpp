@@ -75,7 +75,7 @@ std::vector<Ensemble> run_case(const ControllersOptions& o, const Case& c, const
   std::vector<Ensemble> ensembles;
   for (const auto& name : controllers) {
     const std::string dir = o.common.out_dir + "/runs/" + c.name + "/" + name;
-    LaunchRequest r{c.file, {"agent.controller=" + name}, seeds, true, "", {}, dir, dir + ".log"};
+    LaunchRequest r{c.file, {"agent.controller=" + name}, seeds, true, "", {}, dir, dir + ".log", o.common.jobs};
     if (o.common.quick && c.name == "endless") r.overrides.emplace_back("run.duration=" + fixed(quick_endless, 0));
     ensembles.push_back(run_ensemble(o.common.launcher, c.name + "-" + name, name, r, C));
   }

@@ -17,6 +17,7 @@ void run_launch(const std::string& launcher, const LaunchRequest& r) {
                                    "--no-bridge"};
   if (r.in_process) {
     argv.emplace_back("--in-process");
+    if (r.jobs) argv.insert(argv.end(), {"--jobs", std::to_string(*r.jobs)});
   } else {
     if (!r.dds.empty()) argv.insert(argv.end(), {"--dds", r.dds});
     if (r.domain) argv.insert(argv.end(), {"--domain", std::to_string(*r.domain)});

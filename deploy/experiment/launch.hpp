@@ -30,6 +30,7 @@ struct LaunchRequest {
   std::optional<int> domain;  ///< process mode: the DDS domain (default: the launcher picks)
   std::string out;
   std::string log;  ///< the launcher's output
+  std::optional<unsigned> jobs = {};  ///< in process: seeds at once (--jobs); empty: its default
 };
 
 /// Runs retreat-launch (`launcher`, a path) to its end. On SIGINT/SIGTERM/SIGHUP it is sent

@@ -51,6 +51,9 @@ std::vector<Part> plan_parts(const RobotariumOptions& o, const std::string& fini
   parts.push_back({"kinetic-in-process", "finite queue, kinetic world, in-process",
                    {finite, {"arena.encounter_model=kinetic"}, seeds, true, "", {}, out + "/kinetic-in-process",
                     out + "/kinetic-in-process.log"}});
+  for (auto& p : parts) {
+    if (p.request.in_process) p.request.jobs = o.common.jobs;
+  }
   return parts;
 }
 

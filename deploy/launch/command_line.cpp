@@ -27,6 +27,11 @@ std::variant<LaunchCommandLine, int> parse_command_line(int argc, char** argv,
   app.add_option("--arena-profile", o.arena_profile,
                  "DDS profile for the arena only, the hub of a star (deploy/dds/*-hub.xml); every "
                  "other process uses dds.profile");
+  unsigned jobs = 0;
+  auto* jobs_opt = app.add_option(
+      "--jobs", jobs,
+      "with --in-process and --seeds: seeds run at once, one thread each (default: the core "
+      "count); the runs are the same as one after another");
   app.add_option("--bin-dir", o.bin_dir,
                  "where retreat-arena, retreat-agent and retreat-bridge "
                  "are (default: next to retreat-launch)");
@@ -36,6 +41,7 @@ std::variant<LaunchCommandLine, int> parse_command_line(int argc, char** argv,
   o.overrides = common.overrides;
   if (app.count("--domain") > 0) o.domain = common.domain;
   if (seed_opt->count() > 0) o.seed = seed;
+  if (jobs_opt->count() > 0) o.jobs = jobs;
   // Everything is validated before anything is started or written.
   return scenario::guarded(program, [&]() -> std::variant<LaunchCommandLine, int> {
     return LaunchCommandLine{make_plan(o, self_dir), common.print_config};

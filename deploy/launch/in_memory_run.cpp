@@ -1,11 +1,10 @@
 #include "retreat/launch/in_memory_run.hpp"
 
 #include <chrono>
-#include <map>
 #include <memory>
-#include <set>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "retreat/agent/agent_node.hpp"
 #include "retreat/transport/inmemory.hpp"
@@ -24,7 +23,8 @@ InMemoryRun run_in_memory(const scenario::Scenario& s, arena::RunRecorder* recor
                           const std::function<bool()>& keep_going,
                           const std::function<void(const arena::ArenaNode&, double)>& on_tick) {
   using Clock = std::chrono::steady_clock;
-  auto bus = transport::make_inmemory_bus();  // a private "domain" for this run only
+  // A private "domain" for this run only, stepped by this thread alone: nothing locks.
+  auto bus = transport::make_inmemory_bus(transport::Threading::confined);
   auto participant = [&](const std::string& name, const std::string& user_data) {
     transport::ParticipantOptions o;
     o.domain_id = s.dds.domain;
@@ -36,15 +36,20 @@ InMemoryRun run_in_memory(const scenario::Scenario& s, arena::RunRecorder* recor
   auto arena_transport = participant("retreat-arena", "retreat:arena");
   arena::ArenaNode arena(s, *arena_transport, recorder);
 
-  std::map<std::uint32_t, InProcessAgent> agents;
-  std::set<std::uint32_t> served;  // robots that have had an agent (ids only grow)
+  // By robot id; null once the robot has departed. Ids only grow and are dense, so the robots
+  // without an agent yet are the ids from agents.size() on.
+  std::vector<std::unique_ptr<InProcessAgent>> agents;
+  std::uint32_t started = 0;
   const auto start_agents = [&] {
-    for (const auto& f : arena.world().frames()) {
-      if (f.phase == physics::Phase::departed || !served.insert(f.id).second) continue;
-      InProcessAgent a;
-      a.transport = participant("retreat-agent/robot_" + std::to_string(f.id), agent::agent_user_data(f.id));
-      a.node = std::make_unique<agent::AgentNode>(s, f.id, *a.transport);
-      agents.emplace(f.id, std::move(a));
+    const auto& world = arena.world();
+    for (auto id = static_cast<std::uint32_t>(agents.size()); id < world.robot_count(); ++id) {
+      agents.emplace_back();
+      if (world.robot_stats(id).phase == physics::Phase::departed) continue;
+      auto a = std::make_unique<InProcessAgent>();
+      a->transport = participant("retreat-agent/robot_" + std::to_string(id), agent::agent_user_data(id));
+      a->node = std::make_unique<agent::AgentNode>(s, id, *a->transport);
+      agents.back() = std::move(a);
+      ++started;
     }
   };
   start_agents();
@@ -53,7 +58,9 @@ InMemoryRun run_in_memory(const scenario::Scenario& s, arena::RunRecorder* recor
   const auto start = Clock::now();
   while (keep_going()) {
     arena.publish_tick();
-    for (auto& [id, a] : agents) a.node->spin_once(std::chrono::nanoseconds(0));
+    for (auto& a : agents) {
+      if (a) a->node->spin_once(std::chrono::nanoseconds(0));
+    }
     arena.collect_available();
     if (!arena.all_answered()) {
       // The in-memory transport delivers synchronously: every live agent has answered.
@@ -62,12 +69,14 @@ InMemoryRun run_in_memory(const scenario::Scenario& s, arena::RunRecorder* recor
     if (arena.finished()) break;
     arena.step();
     start_agents();  // endless queue: robots appear
-    std::erase_if(agents, [](const auto& entry) { return entry.second.node->departed(); });
+    for (auto& a : agents) {
+      if (a && a->node->departed()) a.reset();
+    }
     if (on_tick) on_tick(arena, std::chrono::duration<double>(Clock::now() - start).count());
   }
   InMemoryRun out;
   out.summary = arena.finish(std::chrono::duration<double>(Clock::now() - start).count());
-  out.agents_started = static_cast<std::uint32_t>(served.size());
+  out.agents_started = started;
   return out;
 }
 

@@ -18,12 +18,18 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <csignal>
 #include <cstdio>
 #include <ctime>
+#include <exception>
 #include <filesystem>
 #include <iostream>
+#include <mutex>
+#include <optional>
+#include <thread>
 #include <variant>
+#include <vector>
 
 #include "retreat/launch/command_line.hpp"
 #include "domain_lock.hpp"
@@ -133,30 +139,76 @@ void announce(const launch::Plan& plan, int domain, const std::string& out) {
 }
 
 /// Runs every seed of the plan into `out` (OUT/seed_<n>/ for several); returns the exit code.
+/// In process, plan.jobs seeds run at once, one thread each: every run has its own world, bus
+/// and directory, so each is the same as it would be alone. Results are reported in seed order.
 int run_seeds(const launch::Plan& plan, const std::string& out, int domain) {
   const bool in_process = plan.options.in_process;
+  const std::size_t n = plan.seeds.size();
+  const auto dir_of = [&](std::size_t i) {
+    return plan.multi_seed ? out + "/seed_" + std::to_string(plan.seeds[i]) : out;
+  };
+  const unsigned jobs = static_cast<unsigned>(std::min<std::size_t>(plan.jobs, n));
+  std::vector<std::optional<launch::RunOutcome>> results(n);
   std::vector<nlohmann::json> summaries;
-  for (const auto seed_n : plan.seeds) {
-    const std::string dir = plan.multi_seed ? out + "/seed_" + std::to_string(seed_n) : out;
-    const auto result = in_process ? launch::run_in_process(plan, seed_n, dir)
-                                   : launch::run_processes(plan, seed_n, dir, domain);
-    if (!result.summary.is_null()) {
-      report(result.summary, dir);
-      summaries.push_back(result.summary);
+  std::mutex mutex;  // guards results, summaries, reported, halt, failure and stderr
+  std::size_t next = 0, reported = 0;
+  bool halt = false, stopped = false;
+  std::exception_ptr failure;
+  const auto worker = [&] {
+    for (;;) {
+      std::size_t i = 0;
+      {
+        std::lock_guard lock(mutex);
+        if (halt || next == n) return;
+        i = next++;
+      }
+      std::optional<launch::RunOutcome> result;
+      std::exception_ptr error;
+      try {
+        result = in_process ? launch::run_in_process(plan, plan.seeds[i], dir_of(i), jobs == 1)
+                            : launch::run_processes(plan, plan.seeds[i], dir_of(i), domain);
+      } catch (...) {
+        error = std::current_exception();
+      }
+      std::lock_guard lock(mutex);
+      if (error) {
+        if (!failure) failure = error;
+        halt = true;
+        continue;
+      }
+      results[i] = std::move(result);
+      // Report every finished run whose predecessors are reported too: seed order, as it goes.
+      for (; reported < n && results[reported]; ++reported) {
+        const auto& r = *results[reported];
+        if (!r.summary.is_null()) {
+          report(r.summary, dir_of(reported));
+          summaries.push_back(r.summary);
+        }
+        if (r.stopped) halt = stopped = true;
+      }
+      if (result->stopped) halt = stopped = true;
     }
-    if (result.stopped) {
-      const int signo = launch::stop_signal.load();
-      std::fprintf(stderr, "retreat-launch: stopped by signal %d%s\n", signo,
-                   in_process ? "" : "; every child stopped");
-      return 128 + signo;
-    }
+  };
+  if (jobs <= 1) {
+    worker();
+  } else {
+    std::vector<std::thread> threads;
+    for (unsigned j = 0; j < jobs; ++j) threads.emplace_back(worker);
+    for (auto& t : threads) t.join();
+  }
+  if (failure) std::rethrow_exception(failure);
+  if (stopped) {
+    const int signo = launch::stop_signal.load();
+    std::fprintf(stderr, "retreat-launch: stopped by signal %d%s\n", signo,
+                 in_process ? "" : "; every child stopped");
+    return 128 + signo;
   }
   if (plan.multi_seed) {
     const auto j = launch::write_seeds_summary(out, summaries);
     std::fprintf(stderr,
-                 "retreat-launch: %zu seeds: population mean of the last 300 s %.2f ± %.2f "
-                 "(std over seeds); %s/seeds_summary.json\n",
-                 summaries.size(),
+                 "retreat-launch: %zu seeds (%u at once): population mean of the last 300 s %.2f "
+                 "± %.2f (std over seeds); %s/seeds_summary.json\n",
+                 summaries.size(), jobs,
                  j.value(nlohmann::json::json_pointer("/population/mean_last_300s/mean"), 0.0),
                  j.value(nlohmann::json::json_pointer("/population/mean_last_300s/std"), 0.0),
                  out.c_str());

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <charconv>
 #include <filesystem>
+#include <thread>
 
 #include "retreat/transport/factory.hpp"
 #include "retreat/transport/transport.hpp"
@@ -98,6 +99,21 @@ void resolve_scenario(const LaunchOptions& o, Plan& plan) {
   plan.endless = plan.scenario.arena.queue == physics::QueueKind::endless;
 }
 
+/// --jobs: 1..max_jobs; more than one only in process (process runs would share the host's
+/// DDS ports, its cores and the run's domain). Default: the core count in process, else 1.
+void plan_jobs(const LaunchOptions& o, Plan& plan) {
+  if (o.jobs && (*o.jobs < 1 || *o.jobs > max_jobs)) {
+    throw UsageError("--jobs " + std::to_string(*o.jobs) + ": must be an integer in 1.." +
+                     std::to_string(max_jobs));
+  }
+  if (o.jobs && *o.jobs > 1 && !o.in_process) {
+    throw UsageError("--jobs " + std::to_string(*o.jobs) +
+                     ": only --in-process runs seeds at once (process runs take one at a time)");
+  }
+  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+  plan.jobs = o.jobs ? *o.jobs : (o.in_process ? cores : 1u);
+}
+
 /// --in-process: lockstep, no DDS Security.
 void plan_in_process(Plan& plan) {
   if (plan.scenario.dds.security == scenario::Security::on) {
@@ -179,6 +195,7 @@ Plan make_plan(const LaunchOptions& options, const std::string& self_dir) {
   } else {
     plan_processes(o, self_dir, plan);
   }
+  plan_jobs(o, plan);
   return plan;
 }
 

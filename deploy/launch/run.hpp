@@ -27,8 +27,10 @@ struct RunOutcome {
 };
 
 /// Steps the arena and every agent in this process over the in-memory transport, in lockstep:
-/// publish_tick, every agent's spin_once(0), collect_available, step. Writes `dir`.
-RunOutcome run_in_process(const Plan& plan, std::uint64_t seed, const std::string& dir);
+/// publish_tick, every agent's spin_once(0), collect_available, step. Writes `dir`. Draws the
+/// progress line on a terminal if @p progress_line (not when several seeds run at once).
+RunOutcome run_in_process(const Plan& plan, std::uint64_t seed, const std::string& dir,
+                          bool progress_line = true);
 
 /// Starts retreat-arena, one retreat-agent per robot (and the bridge), supervises them until
 /// the arena exits, stops the rest, and updates `dir`/summary.json. Throws RunFailure.

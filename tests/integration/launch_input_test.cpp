@@ -38,6 +38,10 @@ TEST(LaunchInput, BadInputIsRefusedWithExitCodeTwoAndNothingStarted) {
   expect_refused("realtime-in-process", {robotarium, "--in-process", "--set", "run.mode=realtime"});
   expect_refused("unknown-option", {robotarium, "--frobnicate"});
   expect_refused("missing-programs", {robotarium, "--bin-dir", "/nonexistent", "--domain", "64"});
+  expect_refused("jobs-zero", {robotarium, "--in-process", "--seeds", "1:2", "--jobs", "0"});
+  expect_refused("jobs-too-many", {robotarium, "--in-process", "--seeds", "1:2", "--jobs", "257"});
+  expect_refused("jobs-not-a-number", {robotarium, "--in-process", "--jobs", "two"});
+  expect_refused("jobs-in-processes", {robotarium, "--seeds", "1:2", "--jobs", "2", "--domain", "64"});
 }
 
 TEST(LaunchInput, ADomainInUseByAnotherLaunchIsRefused) {

@@ -6,6 +6,7 @@
 
 #include <unistd.h>
 
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <string>
@@ -110,12 +111,33 @@ TEST(LaunchRuns, KineticRobotariumWithRetreatsGivesOneTrajectoryMixedAndInProces
   EXPECT_EQ(jm["deliveries"], ji["deliveries"]);
 }
 
-TEST(LaunchRuns, SeedsRunOneByOneAndADifferentSeedGivesADifferentTrajectory) {
+TEST(LaunchRuns, SeedsRunOneByOneOrAtOnceAlikeAndADifferentSeedGivesADifferentTrajectory) {
   // Kinetic, so that the trajectories contain decisions to tell apart (the hash covers phases
   // and decisions, not positions).
   const std::vector<std::string> kinetic = args(short_robotarium, {"--set", "arena.encounter_model=kinetic"});
   const auto dir = fresh_dir("seeds-in-process");
-  ASSERT_EQ(run_launch(dir, args({robotarium, "--in-process", "--seeds", "1:3"}, kinetic)), 0) << log_of(dir);
+  ASSERT_EQ(run_launch(dir, args({robotarium, "--in-process", "--seeds", "1:3", "--jobs", "1"}, kinetic)), 0)
+      << log_of(dir);
+  // Three seeds on three threads at once: every seed's run and the aggregate are the same.
+  const auto parallel = fresh_dir("seeds-in-process-jobs-3");
+  ASSERT_EQ(run_launch(parallel, args({robotarium, "--in-process", "--seeds", "1:3", "--jobs", "3"}, kinetic)), 0)
+      << log_of(parallel);
+  EXPECT_NE(log_of(parallel).find("3 seeds (3 at once)"), std::string::npos) << log_of(parallel);
+  for (int seed = 1; seed <= 3; ++seed) {
+    const auto one = read_json(dir + "/run/seed_" + std::to_string(seed) + "/summary.json");
+    const auto at_once = read_json(parallel + "/run/seed_" + std::to_string(seed) + "/summary.json");
+    ASSERT_FALSE(at_once.empty()) << "seed " << seed << ": " << log_of(parallel);
+    EXPECT_EQ(at_once["trajectory_sha256"], one["trajectory_sha256"]) << "seed " << seed;
+    EXPECT_EQ(at_once["population"], one["population"]) << "seed " << seed;
+    EXPECT_EQ(at_once["deliveries"], one["deliveries"]) << "seed " << seed;
+    EXPECT_EQ(testing::read_file(parallel + "/run/seed_" + std::to_string(seed) + "/telemetry.csv"),
+              testing::read_file(dir + "/run/seed_" + std::to_string(seed) + "/telemetry.csv"))
+        << "seed " << seed;
+  }
+  const auto agg_at_once = read_json(parallel + "/run/seeds_summary.json");
+  const auto agg_one = read_json(dir + "/run/seeds_summary.json");
+  EXPECT_EQ(agg_at_once["population"], agg_one["population"]);
+  EXPECT_EQ(agg_at_once["deliveries"], agg_one["deliveries"]);
   std::vector<std::string> hashes;
   for (int seed = 1; seed <= 3; ++seed) {
     const auto j = read_json(dir + "/run/seed_" + std::to_string(seed) + "/summary.json");
@@ -144,6 +166,38 @@ TEST(LaunchRuns, SeedsRunOneByOneAndADifferentSeedGivesADifferentTrajectory) {
   ASSERT_EQ(run_launch(one, args({robotarium, "--dds", "cyclonedds", "--domain", std::to_string(domain_seed),
                                   "--seed", "2"}, kinetic)), 0) << log_of(one);
   EXPECT_EQ(read_json(one + "/run/summary.json")["trajectory_sha256"], hashes[1]);
+}
+
+// Every shipped scenario, cut to 120 simulated seconds (past the first window L = 90 s, so
+// agents decide): a sweep of two seeds one after another and both at once give the same runs.
+TEST(LaunchRuns, EveryShippedScenarioSweepsAlikeOneByOneAndAtOnce) {
+  std::size_t checked = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(scenarios)) {
+    if (entry.path().extension() != ".yaml") continue;
+    const std::string name = entry.path().stem().string();
+    const auto sweep = [&](const std::string& jobs) {
+      const auto dir = fresh_dir("sweep-" + name + "-jobs-" + jobs);
+      EXPECT_EQ(run_launch(dir, {entry.path().string(), "--in-process", "--seeds", "1:2", "--jobs", jobs, "--set",
+                                 "run.duration=120"}),
+                0)
+          << name << ": " << log_of(dir);
+      return dir + "/run";
+    };
+    const auto one_by_one = sweep("1");
+    const auto at_once = sweep("2");
+    for (const char* seed : {"seed_1", "seed_2"}) {
+      const auto a = read_json(one_by_one + "/" + seed + "/summary.json");
+      const auto b = read_json(at_once + "/" + seed + "/summary.json");
+      ASSERT_FALSE(a.empty() || b.empty()) << name << " " << seed;
+      EXPECT_EQ(a["trajectory_sha256"].get<std::string>().size(), 64u) << name;
+      EXPECT_EQ(b["trajectory_sha256"], a["trajectory_sha256"]) << name << " " << seed;
+      EXPECT_EQ(testing::read_file(at_once + "/" + seed + "/telemetry.csv"),
+                testing::read_file(one_by_one + "/" + seed + "/telemetry.csv"))
+          << name << " " << seed;
+    }
+    ++checked;
+  }
+  EXPECT_GE(checked, 5u) << "the shipped scenarios were not found in " << scenarios;
 }
 
 TEST(LaunchRuns, AnEndlessQueueStartsAgentsAsRobotsJoinAndGivesTheInProcessTrajectory) {

@@ -18,7 +18,9 @@ OnsetWindow::OnsetWindow(double length) : length_(length) {
 }
 
 void OnsetWindow::add(double time, std::uint64_t count) {
-  if (!std::isfinite(time) || (!entries_.empty() && time < entries_.back().time)) {
+  // last_onset_ rather than entries_.back(): most frames bring no onset, and this way they
+  // touch nothing but this object.
+  if (!std::isfinite(time) || (!entries_.empty() && time < last_onset_)) {
     throw std::invalid_argument("OnsetWindow::add: time " + format_number(time) +
                                 " must be finite and not earlier than the last onset");
   }
@@ -30,6 +32,7 @@ void OnsetWindow::add(double time, std::uint64_t count) {
   } else {
     entries_.push_back(Entry{time, count});
   }
+  last_onset_ = time;
   held_ += count;
 }
 

@@ -42,6 +42,7 @@ RobotId WorldBase::create_robot() {
 }
 
 CommandVerdict WorldBase::command_retreat(RobotId id) {
+  telemetry_.reset();
   if (id >= stats_.size()) {
     ++commands_.rejected_unknown;
     return CommandVerdict::unknown_robot;
@@ -78,6 +79,7 @@ void WorldBase::depart(RobotId id, double time) {
 }
 
 void WorldBase::build_frames() {
+  telemetry_.reset();
   frames_.clear();
   for (RobotId id = 0; id < stats_.size(); ++id) {
     if (stats_[id].phase == Phase::departed && departed_this_tick_[id] == 0) {
@@ -91,7 +93,10 @@ void WorldBase::build_frames() {
 }
 
 Telemetry WorldBase::telemetry() const {
-  Telemetry t;
+  if (telemetry_) {
+    return *telemetry_;
+  }
+  Telemetry& t = telemetry_.emplace();
   t.tick = tick_;
   t.time = time_;
   for (RobotId id = 0; id < stats_.size(); ++id) {

@@ -4,6 +4,7 @@
 /// influx, retreat commands, frames, telemetry and per-robot statistics.
 
 #include <deque>
+#include <optional>
 #include <vector>
 
 #include "retreat/physics/domain.hpp"
@@ -67,7 +68,8 @@ class WorldBase : public World {
     onsets_ += count;
   }
 
-  /// Rebuilds frames() for the current tick and resets the per-frame counters.
+  /// Rebuilds frames() for the current tick and resets the per-frame counters (and forgets the
+  /// telemetry of the previous tick).
   void build_frames();
 
   RobotId create_robot();
@@ -89,6 +91,12 @@ class WorldBase : public World {
   std::uint64_t onsets_ = 0;
   CommandCounts commands_;
   std::vector<RobotFrame> frames_;
+
+ private:
+  /// telemetry() of the current tick, computed on first use: one pass over every robot, where
+  /// a tick asks for it several times (the arena's tick, its clock, the recorder's row). Forgotten
+  /// by build_frames() (a step) and command_retreat() (phases and counters change).
+  mutable std::optional<Telemetry> telemetry_;
 };
 
 /// The domain a WorldParams describes.

@@ -186,7 +186,7 @@ class CycloneWriterPort final : public detail::WriterPort {
     dds_delete(writer_);
     dds_delete(topic_);
   }
-  WriteResult write(const wire::AnyMessage& sample) override {
+  WriteResult write(wire::AnyMessage&& sample) override {
     typename T::Vendor vendor{};
     const auto& plain = std::get<typename T::Plain>(sample);
     dds_return_t rc;

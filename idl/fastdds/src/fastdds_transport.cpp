@@ -184,7 +184,7 @@ class FastWriterPort final : public detail::WriterPort, public dds::DataWriterLi
   FastWriterPort(std::shared_ptr<FastParticipant> owner, dds::Publisher* publisher,
                  dds::Topic* topic, const QosIntent& intent);
   ~FastWriterPort() override;
-  WriteResult write(const wire::AnyMessage& sample) override {
+  WriteResult write(wire::AnyMessage&& sample) override {
     auto vendor = fastdds::to_vendor(std::get<typename T::Plain>(sample));
     // Fast DDS 2.9's write() returns only success; a reliable KEEP_ALL writer fails when it has
     // blocked for max_blocking_time, which is the only failure we expect here.

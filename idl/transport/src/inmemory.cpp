@@ -4,6 +4,8 @@
 #include <cstring>
 #include <map>
 #include <mutex>
+#include <unordered_map>
+#include <utility>
 
 namespace retreat::transport {
 namespace {
@@ -45,7 +47,7 @@ class InMemoryBus {
     wire::MessageKind kind;
     QosIntent qos;
     RemoteEndpoint identity;
-    std::map<std::uint32_t, std::deque<wire::AnyMessage>> history;  // transient-local only
+    std::unordered_map<std::uint32_t, std::deque<wire::AnyMessage>> history;  // transient-local only
   };
   struct ReaderEntry {
     std::uint64_t id;
@@ -54,115 +56,155 @@ class InMemoryBus {
     RemoteEndpoint identity;
     std::shared_ptr<Inbox> inbox;
   };
+  /// One topic: its endpoints, and a version that changes whenever they do (a writer's list of
+  /// matched inboxes is rebuilt only then).
   struct TopicEntry {
-    std::vector<WriterEntry> writers;
-    std::vector<ReaderEntry> readers;
+    std::map<std::uint64_t, WriterEntry> writers;  // by id: creation order; removal in O(log n)
+    std::map<std::uint64_t, ReaderEntry> readers;
+    std::uint64_t version = 0;
+  };
+  /// What a writer resolved once: its topic, and the inboxes it delivers to at the topic's
+  /// version `seen`.
+  struct WriterRoute {
+    TopicEntry* topic = nullptr;
+    std::uint64_t id = 0;
+    std::uint64_t seen = ~std::uint64_t{0};
+    WriterEntry* self = nullptr;
+    std::vector<Inbox*> targets;
   };
 
+  explicit InMemoryBus(Threading threading) : threading_(threading) {}
+  Threading threading() const { return threading_; }
+
   std::uint64_t new_participant(ParticipantInfo info) {
-    std::lock_guard lock(mutex_);
+    const auto lock = guard();
     const auto n = ++participants_counter_;
     info.guid = make_guid(n, 0x000001c1);
     participants_[n] = std::move(info);
     return n;
   }
   void remove_participant(std::uint64_t n) {
-    std::lock_guard lock(mutex_);
+    const auto lock = guard();
     participants_.erase(n);
   }
   std::vector<ParticipantInfo> participants() const {
-    std::lock_guard lock(mutex_);
+    const auto lock = guard();
     std::vector<ParticipantInfo> out;
     for (const auto& [n, info] : participants_) out.push_back(info);
     return out;
   }
   std::string participant_guid(std::uint64_t n) const {
-    std::lock_guard lock(mutex_);
+    const auto lock = guard();
     return participants_.at(n).guid;
   }
 
-  std::uint64_t add_writer(const std::string& topic, wire::MessageKind kind, QosIntent qos,
-                           std::uint64_t participant) {
-    std::lock_guard lock(mutex_);
+  WriterRoute add_writer(const std::string& topic, wire::MessageKind kind, QosIntent qos,
+                         std::uint64_t participant) {
+    const auto lock = guard();
     const auto id = ++endpoint_counter_;
-    topics_[topic].writers.push_back(
-        {id, kind, qos,
-         {make_guid(participant, static_cast<std::uint32_t>(id)), participants_.at(participant).guid},
-         {}});
-    return id;
+    auto& entry = topic_entry(topic);
+    entry.writers.emplace(
+        id, WriterEntry{id, kind, qos,
+                        {make_guid(participant, static_cast<std::uint32_t>(id)), participants_.at(participant).guid},
+                        {}});
+    ++entry.version;
+    WriterRoute route;
+    route.topic = &entry;
+    route.id = id;
+    return route;
   }
-  std::uint64_t add_reader(const std::string& topic, wire::MessageKind kind, QosIntent qos,
-                           std::uint64_t participant, std::shared_ptr<Inbox> inbox) {
-    std::lock_guard lock(mutex_);
+  std::pair<TopicEntry*, std::uint64_t> add_reader(const std::string& topic, wire::MessageKind kind,
+                                                   QosIntent qos, std::uint64_t participant,
+                                                   std::shared_ptr<Inbox> inbox) {
+    const auto lock = guard();
     const auto id = ++endpoint_counter_;
-    auto& entry = topics_[topic];
+    auto& entry = topic_entry(topic);
     ReaderEntry reader{id, kind, qos,
                        {make_guid(participant, static_cast<std::uint32_t>(id)),
                         participants_.at(participant).guid},
                        inbox};
-    // Late joiner: replay what transient-local writers kept, instance by instance.
-    for (const auto& w : entry.writers) {
+    // Late joiner: replay what transient-local writers kept, instance by instance (ascending
+    // instance key, as a keyed history would hand them over).
+    for (const auto& [wid, w] : entry.writers) {
       if (w.kind != kind || !compatible(w.qos, qos) || qos.durability != Durability::transient_local) {
         continue;
       }
-      for (const auto& [key, samples] : w.history) {
-        for (const auto& s : samples) inbox->push(wire::AnyMessage{s});
+      std::vector<std::uint32_t> keys;
+      for (const auto& kept : w.history) keys.push_back(kept.first);
+      std::sort(keys.begin(), keys.end());
+      for (const auto key : keys) {
+        for (const auto& sample : w.history.at(key)) inbox->push(wire::AnyMessage{sample});
       }
     }
-    entry.readers.push_back(std::move(reader));
-    return id;
+    entry.readers.emplace(id, std::move(reader));
+    ++entry.version;
+    return {&entry, id};
   }
-  void remove(const std::string& topic, std::uint64_t id) {
-    std::lock_guard lock(mutex_);
-    auto& entry = topics_[topic];
-    std::erase_if(entry.writers, [id](const auto& w) { return w.id == id; });
-    std::erase_if(entry.readers, [id](const auto& r) { return r.id == id; });
+  void remove(TopicEntry* entry, std::uint64_t id) {
+    const auto lock = guard();
+    entry->writers.erase(id);
+    entry->readers.erase(id);
+    ++entry->version;
   }
 
-  void write(const std::string& topic, std::uint64_t writer_id, const wire::AnyMessage& sample) {
-    std::lock_guard lock(mutex_);
-    auto& entry = topics_[topic];
-    auto w = std::find_if(entry.writers.begin(), entry.writers.end(),
-                          [&](const auto& x) { return x.id == writer_id; });
-    if (w == entry.writers.end()) return;
-    if (w->qos.durability == Durability::transient_local) {
-      auto& kept = w->history[instance_key(sample)];
+  void write(WriterRoute& route, wire::AnyMessage&& sample) {
+    const auto lock = guard();
+    if (route.seen != route.topic->version) resolve(route);
+    if (route.self == nullptr) return;
+    if (route.self->qos.durability == Durability::transient_local) {
+      auto& kept = route.self->history[instance_key(sample)];
       kept.push_back(sample);
-      const std::size_t depth = w->qos.depth == 0 ? SIZE_MAX : w->qos.depth;
+      const std::size_t depth = route.self->qos.depth == 0 ? SIZE_MAX : route.self->qos.depth;
       while (kept.size() > depth) kept.pop_front();
     }
-    for (auto& r : entry.readers) {
-      if (r.kind == w->kind && compatible(w->qos, r.qos)) r.inbox->push(wire::AnyMessage{sample});
-    }
+    // Every reader but the last gets a copy; the last one gets the sample itself.
+    const std::size_t n = route.targets.size();
+    for (std::size_t i = 0; i + 1 < n; ++i) route.targets[i]->push(wire::AnyMessage{sample});
+    if (n > 0) route.targets[n - 1]->push(std::move(sample));
   }
 
-  std::vector<RemoteEndpoint> matched(const std::string& topic, std::uint64_t id) const {
-    std::lock_guard lock(mutex_);
+  std::vector<RemoteEndpoint> matched(const TopicEntry* entry, std::uint64_t id) const {
+    const auto lock = guard();
     std::vector<RemoteEndpoint> out;
-    const auto it = topics_.find(topic);
-    if (it == topics_.end()) return out;
-    const auto& entry = it->second;
-    for (const auto& w : entry.writers) {
-      if (w.id == id) {
-        for (const auto& r : entry.readers) {
-          if (r.kind == w.kind && compatible(w.qos, r.qos)) out.push_back(r.identity);
-        }
-        return out;
+    if (const auto w = entry->writers.find(id); w != entry->writers.end()) {
+      for (const auto& [rid, r] : entry->readers) {
+        if (r.kind == w->second.kind && compatible(w->second.qos, r.qos)) out.push_back(r.identity);
       }
-    }
-    for (const auto& r : entry.readers) {
-      if (r.id == id) {
-        for (const auto& w : entry.writers) {
-          if (r.kind == w.kind && compatible(w.qos, r.qos)) out.push_back(w.identity);
-        }
+    } else if (const auto r = entry->readers.find(id); r != entry->readers.end()) {
+      for (const auto& [wid, w] : entry->writers) {
+        if (r->second.kind == w.kind && compatible(w.qos, r->second.qos)) out.push_back(w.identity);
       }
     }
     return out;
   }
 
  private:
+  /// A lock on the bus, or none on a confined one.
+  std::unique_lock<std::mutex> guard() const {
+    return threading_ == Threading::confined ? std::unique_lock<std::mutex>()
+                                             : std::unique_lock<std::mutex>(mutex_);
+  }
+  TopicEntry& topic_entry(const std::string& topic) {
+    auto& slot = topics_[topic];
+    if (!slot) slot = std::make_unique<TopicEntry>();
+    return *slot;
+  }
+  /// Rebuilds @p route for its topic's current endpoints (called with the lock held).
+  static void resolve(WriterRoute& route) {
+    auto& entry = *route.topic;
+    route.seen = entry.version;
+    route.targets.clear();
+    const auto self = entry.writers.find(route.id);
+    route.self = self == entry.writers.end() ? nullptr : &self->second;
+    if (route.self == nullptr) return;
+    for (auto& [rid, r] : entry.readers) {
+      if (r.kind == route.self->kind && compatible(route.self->qos, r.qos)) route.targets.push_back(r.inbox.get());
+    }
+  }
+
+  Threading threading_;
   mutable std::mutex mutex_;
-  std::map<std::string, TopicEntry> topics_;
+  std::map<std::string, std::unique_ptr<TopicEntry>> topics_;  // entries never move or go
   std::map<std::uint64_t, ParticipantInfo> participants_;
   std::uint64_t participants_counter_ = 0;
   std::uint64_t endpoint_counter_ = 0;
@@ -172,40 +214,40 @@ namespace {
 
 class InMemoryPort : public detail::WriterPort {
  public:
-  InMemoryPort(std::shared_ptr<InMemoryBus> bus, std::string topic, std::uint64_t id)
-      : bus_(std::move(bus)), topic_(std::move(topic)), id_(id) {}
-  ~InMemoryPort() override { bus_->remove(topic_, id_); }
-  WriteResult write(const wire::AnyMessage& sample) override {
-    bus_->write(topic_, id_, sample);
+  InMemoryPort(std::shared_ptr<InMemoryBus> bus, InMemoryBus::WriterRoute route)
+      : bus_(std::move(bus)), route_(std::move(route)) {}
+  ~InMemoryPort() override { bus_->remove(route_.topic, route_.id); }
+  WriteResult write(wire::AnyMessage&& sample) override {
+    bus_->write(route_, std::move(sample));
     return WriteResult::ok;
   }
   // Delivery is synchronous: everything written is already in the readers' inboxes.
   bool wait_for_acknowledgments(std::chrono::nanoseconds) override { return true; }
-  std::vector<RemoteEndpoint> matched() const override { return bus_->matched(topic_, id_); }
+  std::vector<RemoteEndpoint> matched() const override { return bus_->matched(route_.topic, route_.id); }
 
  private:
   std::shared_ptr<InMemoryBus> bus_;
-  std::string topic_;
-  std::uint64_t id_;
+  InMemoryBus::WriterRoute route_;
 };
 
 class InMemoryReaderPort : public detail::ReaderPort {
  public:
-  InMemoryReaderPort(std::shared_ptr<InMemoryBus> bus, std::string topic, std::uint64_t id)
-      : bus_(std::move(bus)), topic_(std::move(topic)), id_(id) {}
+  InMemoryReaderPort(std::shared_ptr<InMemoryBus> bus, InMemoryBus::TopicEntry* topic, std::uint64_t id)
+      : bus_(std::move(bus)), topic_(topic), id_(id) {}
   ~InMemoryReaderPort() override { bus_->remove(topic_, id_); }
   std::vector<RemoteEndpoint> matched() const override { return bus_->matched(topic_, id_); }
 
  private:
   std::shared_ptr<InMemoryBus> bus_;
-  std::string topic_;
+  InMemoryBus::TopicEntry* topic_;
   std::uint64_t id_;
 };
 
 class InMemoryTransport final : public Transport {
  public:
   InMemoryTransport(std::shared_ptr<InMemoryBus> bus, const ParticipantOptions& options)
-      : bus_(std::move(bus)),
+      : Transport(bus->threading()),
+        bus_(std::move(bus)),
         participant_(bus_->new_participant({"", options.name, options.user_data})) {}
   ~InMemoryTransport() override { bus_->remove_participant(participant_); }
 
@@ -216,13 +258,12 @@ class InMemoryTransport final : public Transport {
  protected:
   std::unique_ptr<detail::WriterPort> make_writer(wire::MessageKind kind,
                                                   const TopicSpec& topic) override {
-    const auto id = bus_->add_writer(topic.name, kind, topic.qos, participant_);
-    return std::make_unique<InMemoryPort>(bus_, topic.name, id);
+    return std::make_unique<InMemoryPort>(bus_, bus_->add_writer(topic.name, kind, topic.qos, participant_));
   }
   std::unique_ptr<detail::ReaderPort> make_reader(wire::MessageKind kind, const TopicSpec& topic,
                                                   std::shared_ptr<Inbox> inbox) override {
-    const auto id = bus_->add_reader(topic.name, kind, topic.qos, participant_, std::move(inbox));
-    return std::make_unique<InMemoryReaderPort>(bus_, topic.name, id);
+    const auto [entry, id] = bus_->add_reader(topic.name, kind, topic.qos, participant_, std::move(inbox));
+    return std::make_unique<InMemoryReaderPort>(bus_, entry, id);
   }
 
  private:
@@ -232,7 +273,9 @@ class InMemoryTransport final : public Transport {
 
 }  // namespace
 
-std::shared_ptr<InMemoryBus> make_inmemory_bus() { return std::make_shared<InMemoryBus>(); }
+std::shared_ptr<InMemoryBus> make_inmemory_bus(Threading threading) {
+  return std::make_shared<InMemoryBus>(threading);
+}
 
 std::shared_ptr<InMemoryBus> inmemory_bus_for_domain(int domain_id) {
   static std::mutex mutex;

@@ -73,20 +73,20 @@ namespace detail {
 
 std::uint64_t PortRegistry::add(const Port* port, std::string topic, bool is_reader) {
   std::lock_guard lock(mutex_);
-  entries_.push_back({next_id_, port, std::move(topic), is_reader});
+  entries_.emplace(next_id_, Entry{port, std::move(topic), is_reader});
   return next_id_++;
 }
 
 void PortRegistry::remove(std::uint64_t id) {
   std::lock_guard lock(mutex_);
-  std::erase_if(entries_, [id](const Entry& e) { return e.id == id; });
+  entries_.erase(id);
 }
 
 std::vector<EndpointMatches> PortRegistry::snapshot() const {
   std::lock_guard lock(mutex_);
   std::vector<EndpointMatches> out;
   out.reserve(entries_.size());
-  for (const auto& e : entries_) out.push_back({e.topic, e.is_reader, e.port->matched()});
+  for (const auto& [id, e] : entries_) out.push_back({e.topic, e.is_reader, e.port->matched()});
   return out;
 }
 

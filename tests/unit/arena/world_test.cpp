@@ -114,6 +114,26 @@ TEST_P(PhysicsWorld, ACommandedRobotRetreatsAndDepartsOnce) {
   EXPECT_EQ(t.inside + t.waiting + t.retreating, 11u);
 }
 
+// telemetry() is computed once per tick and kept: a command between two steps must show in it at
+// once, and a step must replace it.
+TEST_P(PhysicsWorld, TelemetryFollowsACommandAndAStepWithinTheTick) {
+  auto world = make_world(robotarium());
+  world->step_tick();
+  const Telemetry before = world->telemetry();
+  ASSERT_EQ(before.retreating, 0u);
+  ASSERT_EQ(world->command_retreat(2), CommandVerdict::accepted);
+  const Telemetry commanded = world->telemetry();
+  EXPECT_EQ(commanded.tick, before.tick);
+  EXPECT_EQ(commanded.retreating, 1u);
+  EXPECT_EQ(commanded.inside, before.inside - 1);
+  EXPECT_EQ(commanded.commands.accepted, 1u);
+  EXPECT_EQ(world->command_retreat(2), CommandVerdict::already_retreating);
+  EXPECT_EQ(world->telemetry().commands.already_retreating, 1u);
+  world->step_tick();
+  EXPECT_EQ(world->telemetry().tick, before.tick + 1);
+  EXPECT_GT(world->telemetry().time, before.time);
+}
+
 TEST_P(PhysicsWorld, CommandsForUnknownWaitingOrDepartedRobotsAreRejectedAndCounted) {
   auto world = make_world(robotarium());
   EXPECT_EQ(world->command_retreat(999), CommandVerdict::unknown_robot);

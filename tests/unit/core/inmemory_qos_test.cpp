@@ -130,5 +130,62 @@ TEST_F(InMemoryQos, MatchedEndpointsNameTheRemoteParticipant) {
   EXPECT_EQ(writer.matched()[0].participant_guid, b_->guid());
 }
 
+// A writer resolves its topic once and keeps the list of readers it delivers to; that list must
+// follow the topic: readers that join after the writer has written get what follows, readers
+// that leave get nothing more, and the remaining ones lose nothing. On a shared bus and on a
+// confined one (one thread, no locks: what run_in_memory uses).
+class InMemoryRoutes : public ::testing::TestWithParam<Threading> {};
+
+TEST_P(InMemoryRoutes, AWritersReadersFollowTheTopicAfterItHasWritten) {
+  auto bus = make_inmemory_bus(GetParam());
+  auto a = make_inmemory_transport(bus, {0, "a", "retreat:test:a", ""});
+  auto b = make_inmemory_transport(bus, {0, "b", "retreat:test:b", ""});
+  const TopicSpec topic{"t/robot_1/proximity", QosIntent::control()};
+  auto writer = a->create_writer<wire::ProximityFrame>(topic);
+  auto first = b->create_reader<wire::ProximityFrame>(topic);
+  ASSERT_EQ(writer.write({1, 1, 0.03, wire::Phase::inside, false, 0}), WriteResult::ok);
+  std::vector<wire::ProximityFrame> got;
+  {
+    auto second = b->create_reader<wire::ProximityFrame>(topic);
+    ASSERT_EQ(writer.write({1, 2, 0.06, wire::Phase::inside, false, 1}), WriteResult::ok);
+    second.take(got);
+    ASSERT_EQ(got.size(), 1u);  // only what was written after it joined
+    EXPECT_EQ(got[0].tick, 2);
+  }
+  ASSERT_EQ(writer.write({1, 3, 0.09, wire::Phase::inside, false, 0}), WriteResult::ok);
+  EXPECT_TRUE(b->wait(0ns));
+  first.take(got);
+  ASSERT_EQ(got.size(), 3u);
+  for (std::size_t i = 0; i < got.size(); ++i) EXPECT_EQ(got[i].tick, static_cast<std::int64_t>(i + 1));
+  EXPECT_EQ(got[1].new_onsets, 1u);
+  first.take(got);
+  EXPECT_TRUE(got.empty()) << "take(out) clears out";
+  EXPECT_FALSE(b->wait(0ns)) << "nothing arrived since the last wait";
+}
+
+TEST_P(InMemoryRoutes, ADroppedWriterDeliversNothingAndItsTopicStaysUsable) {
+  auto bus = make_inmemory_bus(GetParam());
+  auto a = make_inmemory_transport(bus, {0, "a", "retreat:test:a", ""});
+  auto b = make_inmemory_transport(bus, {0, "b", "retreat:test:b", ""});
+  const TopicSpec topic{"t/robot_2/decision", QosIntent::control()};
+  auto reader = b->create_reader<wire::Decision>(topic);
+  {
+    auto writer = a->create_writer<wire::Decision>(topic);
+    ASSERT_EQ(writer.write({2, 1, 0.03, false}), WriteResult::ok);
+  }
+  auto again = a->create_writer<wire::Decision>(topic);
+  ASSERT_EQ(again.write({2, 2, 0.06, true}), WriteResult::ok);
+  const auto got = reader.take();
+  ASSERT_EQ(got.size(), 2u);
+  EXPECT_FALSE(got[0].retreat);
+  EXPECT_TRUE(got[1].retreat);
+  EXPECT_EQ(reader.matched_count(), 1u);
+}
+
+INSTANTIATE_TEST_SUITE_P(Threading, InMemoryRoutes, ::testing::Values(Threading::shared, Threading::confined),
+                         [](const auto& info) {
+                           return std::string(info.param == Threading::shared ? "Shared" : "Confined");
+                         });
+
 }  // namespace
 }  // namespace retreat::transport

@@ -53,6 +53,7 @@ class OnsetWindow {
   double length_;
   std::deque<Entry> entries_;
   std::uint64_t held_ = 0;
+  double last_onset_ = 0.0;  ///< entries_.back().time while entries_ is not empty
   bool queried_ = false;
   double last_query_ = 0.0;
 };

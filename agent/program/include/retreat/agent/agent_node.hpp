@@ -9,6 +9,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "retreat/agent/retreat_agent.hpp"
 #include "retreat/scenario/params.hpp"
@@ -67,6 +68,8 @@ class AgentNode {
   bool departed_ = false;
   std::set<std::string> decision_readers_;  ///< participant GUIDs that ever read our decisions
   std::chrono::steady_clock::time_point next_reader_check_{};
+  std::uint64_t spins_ = 0;
+  std::vector<wire::ProximityFrame> taken_;  ///< spin_once's buffer, kept between calls
 };
 
 /// The participant user data an agent announces: "retreat:agent:robot=<id>".

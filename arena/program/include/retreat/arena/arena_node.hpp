@@ -7,7 +7,6 @@
 #include <chrono>
 #include <cstdint>
 #include <functional>
-#include <map>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -81,7 +80,8 @@ class ArenaNode {
   RunSummary finish(double wall_seconds);
 
   const physics::World& world() const { return *world_; }
-  const DecisionCounters& decisions() const { return counters_; }
+  /// The counters so far (`invalid` summed over every robot's reader now).
+  DecisionCounters decisions() const;
   std::uint32_t agents_lost() const;
   std::int64_t tick() const;
 
@@ -98,7 +98,8 @@ class ArenaNode {
   transport::Transport& transport_;
   RunRecorder* recorder_;
   std::unique_ptr<physics::World> world_;
-  std::map<std::uint32_t, std::unique_ptr<Robot>> robots_;
+  std::vector<std::unique_ptr<Robot>> robots_;  ///< by robot id (ids are 0 .. robot_count()−1)
+  std::vector<wire::Decision> taken_;           ///< take_decisions' buffer, kept between calls
   transport::Writer<wire::ArenaTelemetry> telemetry_;
   transport::Writer<wire::Poses> poses_;
   TrajectoryHash hash_;

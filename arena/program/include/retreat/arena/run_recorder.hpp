@@ -75,9 +75,13 @@ class RunRecorder {
   const RetreatJournal& journal() const { return journal_; }
 
   /// Appends one telemetry row (every tick); with `write` false (a resumed arena replaying the
-  /// ticks already on disk) only the summary's statistics are updated. Flushed at once, so
-  /// that a killed arena leaves every tick it stepped.
+  /// ticks already on disk) only the summary's statistics are updated. Flushed at once unless
+  /// flush_each_tick(false), so that a killed arena leaves every tick it stepped.
   void record_tick(const physics::Telemetry& telemetry, bool write = true);
+  /// Whether record_tick flushes every row (default: yes, what --resume needs). A run that
+  /// cannot be resumed (in process) turns it off: one write a tick would cost more than its
+  /// world at small N. finish() flushes either way.
+  void flush_each_tick(bool on) { flush_each_tick_ = on; }
   /// Journals a retreat decision applied at `tick` (flushed at once).
   void record_retreat(std::int64_t tick, std::uint32_t robot);
   /// Appends completed contact intervals (when arena.record_encounters).
@@ -91,6 +95,7 @@ class RunRecorder {
  private:
   std::string dir_;
   scenario::Scenario scenario_;
+  bool flush_each_tick_ = true;
   std::ofstream telemetry_;
   std::ofstream encounters_;
   std::ofstream retreats_;

@@ -36,6 +36,8 @@ struct Common {
   bool quick = false;         ///< the reduced size (tests, smoke runs)
   std::string scenarios_dir;  ///< where the shipped scenario files are
   std::string launcher;       ///< retreat-launch (robotarium, controllers)
+  std::optional<unsigned> jobs;  ///< in-process seeds run at once (retreat-launch --jobs); empty:
+                                 ///< the launcher's default, the core count
 };
 
 /// `name` (e.g. "robotarium-2019.yaml") in the scenarios directory; throws UsageError when it

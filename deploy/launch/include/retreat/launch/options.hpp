@@ -33,7 +33,11 @@ struct LaunchOptions {
   bool in_process = false;
   std::string bin_dir;  ///< empty: the directory of this executable
   std::string arena_profile;  ///< the arena's dds.profile (the hub of a star); empty: dds.profile
+  std::optional<unsigned> jobs;  ///< seeds run at once (--in-process); empty: the core count
 };
+
+/// The largest --jobs accepted.
+inline constexpr unsigned max_jobs = 256;
 
 using scenario::parse_seed_range;
 using scenario::SeedRange;
@@ -58,6 +62,7 @@ struct Plan {
   std::optional<int> domain;           ///< explicit domain (--domain or --set dds.domain=N)
   std::string arena_exe, agent_exe, bridge_exe;  ///< bridge_exe empty: none (or --no-bridge)
   bool bridge_missing = false;         ///< no retreat-bridge next to the launcher
+  unsigned jobs = 1;                   ///< seeds run at once (> 1 only in process)
 };
 
 /// Validates the command line and the scenario with every override; throws UsageError or

@@ -14,22 +14,34 @@
 
 namespace retreat::transport {
 
+/// Whether the samples of a transport are pushed from other threads (middleware threads, or
+/// other threads' writers on a shared in-memory bus) or only from the thread that takes them.
+enum class Threading {
+  shared,    ///< pushes from any thread: inboxes lock, waits block
+  confined,  ///< one thread does everything: no locks, and a wait returns at once (nobody else
+             ///< could push while it waits)
+};
+
 /// Wakes the caller's thread when any inbox of one transport receives a sample.
 class Notifier {
  public:
+  explicit Notifier(Threading threading = Threading::shared) : threading_(threading) {}
   void notify();
-  /// Blocks until notify() was called after the generation `seen`, or the timeout passes.
-  /// Returns the current generation.
+  /// Blocks until notify() was called after the generation `seen`, or the timeout passes
+  /// (confined: returns at once). Returns the current generation.
   std::uint64_t wait_after(std::uint64_t seen, std::chrono::nanoseconds timeout);
   std::uint64_t generation() const;
+  Threading threading() const { return threading_; }
 
  private:
+  Threading threading_;
   mutable std::mutex mutex_;
   std::condition_variable changed_;
   std::uint64_t generation_ = 0;
 };
 
-/// A bounded FIFO of received samples for one reader. Thread-safe.
+/// A bounded FIFO of received samples for one reader. Thread-safe unless its notifier is
+/// Threading::confined.
 class Inbox {
  public:
   /// Holds at most `capacity` samples; beyond that the oldest is dropped and counted.
@@ -42,15 +54,21 @@ class Inbox {
 
   /// Moves every queued sample into `out` (appending), in arrival order.
   void drain(std::deque<wire::AnyMessage>& out);
+  /// Nothing is queued (a hint only, when other threads push).
+  bool empty() const { return size_.load(std::memory_order_relaxed) == 0; }
 
   std::uint64_t overflowed() const { return overflowed_.load(); }
   std::uint64_t undecodable() const { return undecodable_.load(); }
 
  private:
+  void push_locked(wire::AnyMessage&& sample);
+
   std::shared_ptr<Notifier> notifier_;
   std::size_t capacity_;
+  bool confined_;
   std::mutex mutex_;
   std::deque<wire::AnyMessage> queue_;
+  std::atomic<std::size_t> size_{0};
   std::atomic<std::uint64_t> overflowed_{0};
   std::atomic<std::uint64_t> undecodable_{0};
 };

@@ -14,8 +14,10 @@ namespace retreat::transport {
 
 class InMemoryBus;
 
-/// A bus is one "domain" of the in-memory transport.
-std::shared_ptr<InMemoryBus> make_inmemory_bus();
+/// A bus is one "domain" of the in-memory transport. Threading::confined: one thread creates,
+/// writes, takes and destroys everything on it (a whole swarm stepped in one thread), so
+/// nothing locks; Threading::shared: any thread may.
+std::shared_ptr<InMemoryBus> make_inmemory_bus(Threading threading = Threading::shared);
 
 /// The process-wide bus for a domain id (what make_transport("inmemory", ...) uses).
 std::shared_ptr<InMemoryBus> inmemory_bus_for_domain(int domain_id);

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cstdint>
 #include <deque>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -95,7 +96,8 @@ class Port {
 };
 class WriterPort : public Port {
  public:
-  virtual WriteResult write(const wire::AnyMessage& sample) = 0;
+  /// Writes @p sample (the port may move from it).
+  virtual WriteResult write(wire::AnyMessage&& sample) = 0;
   virtual bool wait_for_acknowledgments(std::chrono::nanoseconds timeout) = 0;
 };
 class ReaderPort : public Port {};
@@ -109,13 +111,12 @@ class PortRegistry {
 
  private:
   struct Entry {
-    std::uint64_t id;
     const Port* port;
     std::string topic;
     bool is_reader;
   };
   mutable std::mutex mutex_;
-  std::vector<Entry> entries_;
+  std::map<std::uint64_t, Entry> entries_;  // by id: creation order, and removal in O(log n)
   std::uint64_t next_id_ = 1;
 };
 
@@ -182,10 +183,16 @@ class Reader {
  public:
   /// Every valid sample received since the last call, in arrival order.
   std::vector<M> take() {
+    std::vector<M> out;
+    take(out);
+    return out;
+  }
+  /// The same into @p out (cleared first): a caller that keeps @p out allocates nothing per call.
+  void take(std::vector<M>& out) {
+    out.clear();
+    if (inbox_->empty()) return;
     pending_.clear();
     inbox_->drain(pending_);
-    std::vector<M> out;
-    out.reserve(pending_.size());
     for (auto& any : pending_) {
       const auto fault = wire::validate(any, topic_robot_);
       if (fault != wire::SampleFault::ok) {
@@ -195,7 +202,6 @@ class Reader {
       ++stats_.accepted;
       out.push_back(std::get<M>(std::move(any)));
     }
-    return out;
   }
   ReaderStats stats() const {
     ReaderStats s = stats_;
@@ -257,7 +263,10 @@ class Transport {
   virtual std::string guid() const = 0;
 
  protected:
-  Transport() : notifier_(std::make_shared<Notifier>()) {}
+  /// @p threading: Threading::confined when only the caller's thread ever writes to this
+  /// transport's readers (a private in-memory bus stepped by one thread): no locks per sample.
+  explicit Transport(Threading threading = Threading::shared)
+      : notifier_(std::make_shared<Notifier>(threading)) {}
   virtual std::unique_ptr<detail::WriterPort> make_writer(wire::MessageKind kind,
                                                           const TopicSpec& topic) = 0;
   virtual std::unique_ptr<detail::ReaderPort> make_reader(wire::MessageKind kind,
