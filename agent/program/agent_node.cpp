@@ -10,9 +10,10 @@
 namespace retreat::agent {
 namespace {
 
-/// How often the agent lists the readers of its decisions (a restarted arena takes far longer
-/// than this to rebuild its world and match again).
-constexpr std::chrono::milliseconds reader_check_period{100};
+/// How often the agent lists the readers of its decisions (a restarted arena takes longer than
+/// this to rebuild its world and match again; listing them builds a vector of GUID strings, too
+/// much to do for every agent of a large swarm several times a second).
+constexpr std::chrono::milliseconds reader_check_period{1000};
 /// ... and at most every this many spins (one spin per frame or wait).
 constexpr std::uint64_t reader_check_spins = 16;
 
@@ -41,12 +42,15 @@ AgentNode::AgentNode(const scenario::Scenario& scenario, std::uint32_t robot_id,
           {wire::agent_status_topic(scenario.dds.prefix), transport::QosIntent::state()})) {}
 
 void AgentNode::spin_once(std::chrono::nanoseconds timeout) {
-  frames_.take(taken_);
-  if (taken_.empty()) {
+  // One buffer per thread rather than one per agent: a swarm in one process spins every agent
+  // on one thread, and one buffer in the cache beats a cold one per agent. handle() never spins.
+  thread_local std::vector<wire::ProximityFrame> taken;
+  frames_.take(taken);
+  if (taken.empty()) {
     transport_.wait(timeout);  // our reader is the transport's only one
-    frames_.take(taken_);
+    frames_.take(taken);
   }
-  for (const auto& f : taken_) handle(f);
+  for (const auto& f : taken) handle(f);
   counters_.frames_dropped = frames_.stats().dropped_total() + agent_.frames().dropped();
   watch_decision_readers();
 }

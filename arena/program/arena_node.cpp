@@ -10,16 +10,17 @@ namespace retreat::arena {
 
 using namespace std::chrono_literals;
 
+/// What every pass over the robots reads comes first (one cache line), the endpoints after.
 struct ArenaNode::Robot {
   std::uint32_t id;
-  transport::Writer<wire::ProximityFrame> frames;
-  transport::Reader<wire::Decision> decisions;
-  AgentRecord record;
   bool expecting = false;  ///< a frame of the current tick is waiting for this agent's answer
   bool answered = false;
   bool retreat = false;       ///< the answer for the current tick (or, real time, any answer)
   bool commanded = false;     ///< the world was told to retreat this robot
   wire::Phase phase = wire::Phase::waiting;
+  AgentRecord record;
+  transport::Writer<wire::ProximityFrame> frames;
+  transport::Reader<wire::Decision> decisions;
 };
 
 namespace {
@@ -66,10 +67,12 @@ ArenaNode::Robot& ArenaNode::robot(std::uint32_t id) {
     const auto next = static_cast<std::uint32_t>(robots_.size());
     const auto& prefix = scenario_.dds.prefix;
     robots_.push_back(std::make_unique<Robot>(Robot{
-        next,
-        transport_.create_writer<wire::ProximityFrame>({wire::proximity_topic(prefix, next), transport::QosIntent::control()}),
-        transport_.create_reader<wire::Decision>({wire::decision_topic(prefix, next), transport::QosIntent::control()}),
-        AgentRecord{next}}));
+        .id = next,
+        .record = AgentRecord{next},
+        .frames = transport_.create_writer<wire::ProximityFrame>(
+            {wire::proximity_topic(prefix, next), transport::QosIntent::control()}),
+        .decisions = transport_.create_reader<wire::Decision>(
+            {wire::decision_topic(prefix, next), transport::QosIntent::control()})}));
   }
   return *robots_[id];
 }
@@ -173,10 +176,15 @@ bool ArenaNode::all_answered() const {
   return true;
 }
 
-void ArenaNode::collect_available() {
+bool ArenaNode::collect_available() {
   // Once per call, not per robot.
   const auto current = tick();
-  for (auto& r : robots_) take_decisions(*r, current);
+  bool all = true;
+  for (auto& r : robots_) {
+    take_decisions(*r, current);
+    all = all && !(r->expecting && !r->answered && !r->record.lost);
+  }
+  return all;
 }
 
 bool ArenaNode::collect_lockstep(const KeepGoing& keep_going) {
@@ -185,8 +193,7 @@ bool ArenaNode::collect_lockstep(const KeepGoing& keep_going) {
   const auto deadline = start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(timeout);
   auto next_resend = start + resend_interval;
   for (;;) {
-    collect_available();
-    if (all_answered()) return true;
+    if (collect_available()) return true;
     if (!keep_going()) return false;
     if (std::chrono::steady_clock::now() >= next_resend) {
       // A frame (or its answer) written while the two sides were still discovering each other

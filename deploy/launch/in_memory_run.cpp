@@ -36,19 +36,17 @@ InMemoryRun run_in_memory(const scenario::Scenario& s, arena::RunRecorder* recor
   auto arena_transport = participant("retreat-arena", "retreat:arena");
   arena::ArenaNode arena(s, *arena_transport, recorder);
 
-  // By robot id; null once the robot has departed. Ids only grow and are dense, so the robots
+  // By robot id; empty once the robot has departed. Ids only grow and are dense, so the robots
   // without an agent yet are the ids from agents.size() on.
-  std::vector<std::unique_ptr<InProcessAgent>> agents;
+  std::vector<InProcessAgent> agents;
   std::uint32_t started = 0;
   const auto start_agents = [&] {
     const auto& world = arena.world();
     for (auto id = static_cast<std::uint32_t>(agents.size()); id < world.robot_count(); ++id) {
-      agents.emplace_back();
+      auto& a = agents.emplace_back();
       if (world.robot_stats(id).phase == physics::Phase::departed) continue;
-      auto a = std::make_unique<InProcessAgent>();
-      a->transport = participant("retreat-agent/robot_" + std::to_string(id), agent::agent_user_data(id));
-      a->node = std::make_unique<agent::AgentNode>(s, id, *a->transport);
-      agents.back() = std::move(a);
+      a.transport = participant("retreat-agent/robot_" + std::to_string(id), agent::agent_user_data(id));
+      a.node = std::make_unique<agent::AgentNode>(s, id, *a.transport);
       ++started;
     }
   };
@@ -59,10 +57,9 @@ InMemoryRun run_in_memory(const scenario::Scenario& s, arena::RunRecorder* recor
   while (keep_going()) {
     arena.publish_tick();
     for (auto& a : agents) {
-      if (a) a->node->spin_once(std::chrono::nanoseconds(0));
+      if (a.node) a.node->spin_once(std::chrono::nanoseconds(0));
     }
-    arena.collect_available();
-    if (!arena.all_answered()) {
+    if (!arena.collect_available()) {
       // The in-memory transport delivers synchronously: every live agent has answered.
       throw std::logic_error("in-process: an agent did not answer tick " + std::to_string(arena.tick()));
     }
@@ -70,7 +67,10 @@ InMemoryRun run_in_memory(const scenario::Scenario& s, arena::RunRecorder* recor
     arena.step();
     start_agents();  // endless queue: robots appear
     for (auto& a : agents) {
-      if (a && a->node->departed()) a.reset();
+      if (a.node && a.node->departed()) {
+        a.node.reset();  // first: a node must not outlive its transport
+        a.transport.reset();
+      }
     }
     if (on_tick) on_tick(arena, std::chrono::duration<double>(Clock::now() - start).count());
   }

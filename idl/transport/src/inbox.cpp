@@ -33,12 +33,23 @@ Inbox::Inbox(std::shared_ptr<Notifier> notifier, std::size_t capacity)
       confined_(notifier_->threading() == Threading::confined) {}
 
 void Inbox::push_locked(wire::AnyMessage&& sample) {
-  if (queue_.size() >= capacity_) {
-    queue_.pop_front();
+  std::size_t size = (has_first_ ? 1 : 0) + rest_.size();
+  if (size >= capacity_) {  // drop the oldest
+    if (has_first_) {
+      has_first_ = false;
+    } else {
+      rest_.pop_front();
+    }
+    --size;
     overflowed_.fetch_add(1);
   }
-  queue_.push_back(std::move(sample));
-  size_.store(queue_.size(), std::memory_order_relaxed);
+  if (!has_first_ && rest_.empty()) {
+    first_ = std::move(sample);
+    has_first_ = true;
+  } else {
+    rest_.push_back(std::move(sample));
+  }
+  size_.store(size + 1, std::memory_order_relaxed);
 }
 
 void Inbox::push(wire::AnyMessage&& sample) noexcept {
@@ -54,18 +65,6 @@ void Inbox::push(wire::AnyMessage&& sample) noexcept {
     // Out of memory on a middleware thread: drop the sample rather than unwind into the vendor.
     overflowed_.fetch_add(1);
   }
-}
-
-void Inbox::drain(std::deque<wire::AnyMessage>& out) {
-  std::unique_lock lock(mutex_, std::defer_lock);
-  if (!confined_) lock.lock();
-  if (out.empty()) {
-    out.swap(queue_);  // the usual case: no sample moves, and queue_ keeps out's storage
-  } else {
-    for (auto& sample : queue_) out.push_back(std::move(sample));
-    queue_.clear();
-  }
-  size_.store(0, std::memory_order_relaxed);
 }
 
 }  // namespace retreat::transport

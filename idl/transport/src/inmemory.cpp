@@ -68,9 +68,11 @@ class InMemoryBus {
   struct WriterRoute {
     TopicEntry* topic = nullptr;
     std::uint64_t id = 0;
-    std::uint64_t seen = ~std::uint64_t{0};
+    std::uint64_t seen = ~std::uint64_t{0};      ///< the topic's version when last resolved
+    std::uint64_t seen_bus = ~std::uint64_t{0};  ///< the bus's version when last checked
     WriterEntry* self = nullptr;
     std::vector<Inbox*> targets;
+    Inbox* only = nullptr;  ///< targets[0] when it is the only one (a robot's own topic): no hop
   };
 
   explicit InMemoryBus(Threading threading) : threading_(threading) {}
@@ -108,6 +110,7 @@ class InMemoryBus {
                         {make_guid(participant, static_cast<std::uint32_t>(id)), participants_.at(participant).guid},
                         {}});
     ++entry.version;
+    ++version_;
     WriterRoute route;
     route.topic = &entry;
     route.id = id;
@@ -138,6 +141,7 @@ class InMemoryBus {
     }
     entry.readers.emplace(id, std::move(reader));
     ++entry.version;
+    ++version_;
     return {&entry, id};
   }
   void remove(TopicEntry* entry, std::uint64_t id) {
@@ -145,17 +149,27 @@ class InMemoryBus {
     entry->writers.erase(id);
     entry->readers.erase(id);
     ++entry->version;
+    ++version_;
   }
 
   void write(WriterRoute& route, wire::AnyMessage&& sample) {
     const auto lock = guard();
-    if (route.seen != route.topic->version) resolve(route);
+    // The bus's version (one line every write reads) first: while no endpoint anywhere changed,
+    // the topic's own entry (one of thousands) is not read at all.
+    if (route.seen_bus != version_) {
+      route.seen_bus = version_;
+      if (route.seen != route.topic->version) resolve(route);
+    }
     if (route.self == nullptr) return;
     if (route.self->qos.durability == Durability::transient_local) {
       auto& kept = route.self->history[instance_key(sample)];
       kept.push_back(sample);
       const std::size_t depth = route.self->qos.depth == 0 ? SIZE_MAX : route.self->qos.depth;
       while (kept.size() > depth) kept.pop_front();
+    }
+    if (route.only != nullptr) {
+      route.only->push(std::move(sample));
+      return;
     }
     // Every reader but the last gets a copy; the last one gets the sample itself.
     const std::size_t n = route.targets.size();
@@ -166,13 +180,13 @@ class InMemoryBus {
   std::vector<RemoteEndpoint> matched(const TopicEntry* entry, std::uint64_t id) const {
     const auto lock = guard();
     std::vector<RemoteEndpoint> out;
-    if (const auto w = entry->writers.find(id); w != entry->writers.end()) {
+    if (const auto writer = entry->writers.find(id); writer != entry->writers.end()) {
       for (const auto& [rid, r] : entry->readers) {
-        if (r.kind == w->second.kind && compatible(w->second.qos, r.qos)) out.push_back(r.identity);
+        if (r.kind == writer->second.kind && compatible(writer->second.qos, r.qos)) out.push_back(r.identity);
       }
-    } else if (const auto r = entry->readers.find(id); r != entry->readers.end()) {
+    } else if (const auto reader = entry->readers.find(id); reader != entry->readers.end()) {
       for (const auto& [wid, w] : entry->writers) {
-        if (r->second.kind == w.kind && compatible(w.qos, r->second.qos)) out.push_back(w.identity);
+        if (reader->second.kind == w.kind && compatible(w.qos, reader->second.qos)) out.push_back(w.identity);
       }
     }
     return out;
@@ -194,16 +208,19 @@ class InMemoryBus {
     auto& entry = *route.topic;
     route.seen = entry.version;
     route.targets.clear();
+    route.only = nullptr;
     const auto self = entry.writers.find(route.id);
     route.self = self == entry.writers.end() ? nullptr : &self->second;
     if (route.self == nullptr) return;
     for (auto& [rid, r] : entry.readers) {
       if (r.kind == route.self->kind && compatible(route.self->qos, r.qos)) route.targets.push_back(r.inbox.get());
     }
+    route.only = route.targets.size() == 1 ? route.targets.front() : nullptr;
   }
 
   Threading threading_;
   mutable std::mutex mutex_;
+  std::uint64_t version_ = 0;  ///< changes whenever any topic's endpoints do
   std::map<std::string, std::unique_ptr<TopicEntry>> topics_;  // entries never move or go
   std::map<std::uint64_t, ParticipantInfo> participants_;
   std::uint64_t participants_counter_ = 0;

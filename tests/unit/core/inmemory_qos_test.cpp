@@ -182,10 +182,12 @@ TEST_P(InMemoryRoutes, ADroppedWriterDeliversNothingAndItsTopicStaysUsable) {
   EXPECT_EQ(reader.matched_count(), 1u);
 }
 
+std::string threading_name(const ::testing::TestParamInfo<Threading>& param) {
+  return param.param == Threading::shared ? "Shared" : "Confined";
+}
+
 INSTANTIATE_TEST_SUITE_P(Threading, InMemoryRoutes, ::testing::Values(Threading::shared, Threading::confined),
-                         [](const auto& info) {
-                           return std::string(info.param == Threading::shared ? "Shared" : "Confined");
-                         });
+                         threading_name);
 
 }  // namespace
 }  // namespace retreat::transport

@@ -69,7 +69,6 @@ class AgentNode {
   std::set<std::string> decision_readers_;  ///< participant GUIDs that ever read our decisions
   std::chrono::steady_clock::time_point next_reader_check_{};
   std::uint64_t spins_ = 0;
-  std::vector<wire::ProximityFrame> taken_;  ///< spin_once's buffer, kept between calls
 };
 
 /// The participant user data an agent announces: "retreat:agent:robot=<id>".

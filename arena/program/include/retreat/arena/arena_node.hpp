@@ -58,8 +58,9 @@ class ArenaNode {
   /// silent for run.agent_timeout is declared lost. Returns false if `keep_going` said stop.
   bool collect_lockstep(const KeepGoing& keep_going);
 
-  /// Takes every decision that has arrived, without waiting (real time, in-process).
-  void collect_available();
+  /// Takes every decision that has arrived, without waiting (real time, in-process). Returns
+  /// all_answered() (found in the same pass over the robots).
+  bool collect_available();
 
   /// True when every live agent has answered the current tick.
   bool all_answered() const;

@@ -52,8 +52,20 @@ class Inbox {
   /// Called from middleware threads when the vendor could not decode a sample.
   void count_undecodable() noexcept { undecodable_.fetch_add(1); }
 
-  /// Moves every queued sample into `out` (appending), in arrival order.
-  void drain(std::deque<wire::AnyMessage>& out);
+  /// Calls @p take(sample) for every queued sample, in arrival order, and empties the inbox.
+  /// @p take runs under the inbox's lock (shared): it must not touch this inbox.
+  template <class Take>
+  void drain(Take&& take) {
+    std::unique_lock lock(mutex_, std::defer_lock);
+    if (!confined_) lock.lock();
+    if (has_first_) {
+      has_first_ = false;
+      take(std::move(first_));
+    }
+    for (auto& sample : rest_) take(std::move(sample));
+    rest_.clear();
+    size_.store(0, std::memory_order_relaxed);
+  }
   /// Nothing is queued (a hint only, when other threads push).
   bool empty() const { return size_.load(std::memory_order_relaxed) == 0; }
 
@@ -67,7 +79,12 @@ class Inbox {
   std::size_t capacity_;
   bool confined_;
   std::mutex mutex_;
-  std::deque<wire::AnyMessage> queue_;
+  // The queue is first_ (while has_first_) then rest_. A sample that arrives to an empty inbox
+  // goes to first_, inside this object: the usual one sample per reader per tick costs no
+  // allocation and no memory beyond the inbox itself.
+  bool has_first_ = false;
+  wire::AnyMessage first_;
+  std::deque<wire::AnyMessage> rest_;
   std::atomic<std::size_t> size_{0};
   std::atomic<std::uint64_t> overflowed_{0};
   std::atomic<std::uint64_t> undecodable_{0};

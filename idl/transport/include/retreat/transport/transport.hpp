@@ -7,7 +7,6 @@
 #include <array>
 #include <chrono>
 #include <cstdint>
-#include <deque>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -191,17 +190,15 @@ class Reader {
   void take(std::vector<M>& out) {
     out.clear();
     if (inbox_->empty()) return;
-    pending_.clear();
-    inbox_->drain(pending_);
-    for (auto& any : pending_) {
+    inbox_->drain([&](wire::AnyMessage&& any) {
       const auto fault = wire::validate(any, topic_robot_);
       if (fault != wire::SampleFault::ok) {
         ++stats_.dropped[static_cast<std::size_t>(fault)];
-        continue;
+        return;
       }
       ++stats_.accepted;
       out.push_back(std::get<M>(std::move(any)));
-    }
+    });
   }
   ReaderStats stats() const {
     ReaderStats s = stats_;
@@ -227,7 +224,6 @@ class Reader {
   std::string topic_;
   std::optional<wire::RobotId> topic_robot_;
   detail::Registration registration_;
-  std::deque<wire::AnyMessage> pending_;
   ReaderStats stats_;
 };
 
