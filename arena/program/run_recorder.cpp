@@ -3,11 +3,13 @@
 #include <openssl/evp.h>
 
 #include <cctype>
+#include <charconv>
 #include <filesystem>
 #include <iomanip>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>
+#include <type_traits>
 
 #include "retreat/model/optimum.hpp"
 #include "retreat/physics/domain.hpp"
@@ -111,11 +113,32 @@ void RunRecorder::record_tick(const physics::Telemetry& t, bool write) {
   population_.emplace_back(t.time, t.inside);
   last_ = t;
   if (!write) return;
-  telemetry_ << t.tick << ',' << t.time << ',' << t.inside << ',' << t.waiting << ','
-             << t.retreating << ',' << t.departed << ',' << t.true_density << ',' << t.deliveries
-             << ',' << t.onsets;
-  for (const auto n : t.state_counts) telemetry_ << ',' << n;
-  telemetry_ << '\n';
+  // std::to_chars, not operator<<: the same text (a double in general form with 6 significant
+  // digits is printf's %.6g, what a default stream writes) at a fraction of the cost per tick.
+  // 13 cells of at most 20 characters each and their separators always fit.
+  char row[512];
+  char* at = row;
+  char* const end = row + sizeof row - 1;  // room for the newline
+  const auto cell = [&](auto value, bool first = false) {
+    if (!first && at != end) *at++ = ',';
+    if constexpr (std::is_floating_point_v<decltype(value)>) {
+      at = std::to_chars(at, end, value, std::chars_format::general, 6).ptr;
+    } else {
+      at = std::to_chars(at, end, value).ptr;
+    }
+  };
+  cell(t.tick, true);
+  cell(t.time);
+  cell(t.inside);
+  cell(t.waiting);
+  cell(t.retreating);
+  cell(t.departed);
+  cell(t.true_density);
+  cell(t.deliveries);
+  cell(t.onsets);
+  for (const auto n : t.state_counts) cell(n);
+  *at++ = '\n';
+  telemetry_.write(row, static_cast<std::streamsize>(at - row));
   if (flush_each_tick_) telemetry_.flush();  // a killed arena leaves every tick it stepped (--resume)
 }
 

@@ -1,6 +1,7 @@
 #include "seed_runs.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -42,12 +43,15 @@ Telemetry read_telemetry(const std::string& path) {
   std::vector<double> row;
   while (std::getline(in, line)) {
     row.clear();
-    const char* p = line.c_str();
-    while (*p != '\0') {
-      char* end = nullptr;
-      row.push_back(std::strtod(p, &end));
-      if (end == p) throw RunFailure("'" + path + "': a cell that is not a number: " + line);
-      p = *end == ',' ? end + 1 : end;
+    // std::from_chars: the same correctly rounded doubles as strtod, without its locale.
+    const char* p = line.data();
+    const char* const last = p + line.size();
+    while (p != last) {
+      double cell = 0.0;
+      const auto [end, ec] = std::from_chars(p, last, cell);
+      if (ec != std::errc() || end == p) throw RunFailure("'" + path + "': a cell that is not a number: " + line);
+      row.push_back(cell);
+      p = end != last && *end == ',' ? end + 1 : end;
     }
     if (row.size() != header.size()) throw RunFailure("'" + path + "': a short row: " + line);
     t.time.push_back(row[time]);
