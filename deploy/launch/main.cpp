@@ -176,6 +176,7 @@ int run_seeds(const launch::Plan& plan, const std::string& out, int domain) {
         halt = true;
         continue;
       }
+      if (result->stopped) halt = stopped = true;  // a signal: no seed starts after this one
       results[i] = std::move(result);
       // Report every finished run whose predecessors are reported too: seed order, as it goes.
       for (; reported < n && results[reported]; ++reported) {
@@ -184,9 +185,7 @@ int run_seeds(const launch::Plan& plan, const std::string& out, int domain) {
           report(r.summary, dir_of(reported));
           summaries.push_back(r.summary);
         }
-        if (r.stopped) halt = stopped = true;
       }
-      if (result->stopped) halt = stopped = true;
     }
   };
   if (jobs <= 1) {
