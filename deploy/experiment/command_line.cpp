@@ -57,9 +57,7 @@ void add_jobs(CLI::App* sub, Common& c) {
 
 /// The defaults of the common options; the scenarios directory must exist.
 void finish_common(Common& c, const std::string& name) {
-  if (c.jobs && (*c.jobs < 1 || *c.jobs > 256)) {
-    throw UsageError("--jobs " + std::to_string(*c.jobs) + ": must be an integer in 1..256");
-  }
+  if (c.jobs) scenario::check_jobs(*c.jobs);
   if (c.out_dir.empty()) c.out_dir = default_out(name);
   if (c.scenarios_dir.empty()) c.scenarios_dir = default_scenarios();
   if (!retreat::is_directory(c.scenarios_dir)) {

@@ -28,7 +28,7 @@ RunOutcome run_in_process(const Plan& plan, std::uint64_t seed, const std::strin
                                            wall > 0 ? static_cast<double>(arena.tick()) / wall : 0.0));
   };
   const auto run = run_in_memory(s, &recorder, keep_going, show_progress);
-  if (progress_line) progress.finish();
+  progress.finish();
 
   LaunchRecord record;
   record.dds = "inmemory";

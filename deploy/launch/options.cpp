@@ -99,13 +99,10 @@ void resolve_scenario(const LaunchOptions& o, Plan& plan) {
   plan.endless = plan.scenario.arena.queue == physics::QueueKind::endless;
 }
 
-/// --jobs: 1..max_jobs; more than one only in process (process runs would share the host's
+/// --jobs: 1..scenario::max_jobs; more than one only in process (process runs would share the host's
 /// DDS ports, its cores and the run's domain). Default: the core count in process, else 1.
 void plan_jobs(const LaunchOptions& o, Plan& plan) {
-  if (o.jobs && (*o.jobs < 1 || *o.jobs > max_jobs)) {
-    throw UsageError("--jobs " + std::to_string(*o.jobs) + ": must be an integer in 1.." +
-                     std::to_string(max_jobs));
-  }
+  if (o.jobs) scenario::check_jobs(*o.jobs);
   if (o.jobs && *o.jobs > 1 && !o.in_process) {
     throw UsageError("--jobs " + std::to_string(*o.jobs) +
                      ": only --in-process runs seeds at once (process runs take one at a time)");

@@ -32,33 +32,27 @@ Inbox::Inbox(std::shared_ptr<Notifier> notifier, std::size_t capacity)
       capacity_(capacity),
       confined_(notifier_->threading() == Threading::confined) {}
 
-void Inbox::push_locked(wire::AnyMessage&& sample) {
-  std::size_t size = (has_first_ ? 1 : 0) + rest_.size();
-  if (size >= capacity_) {  // drop the oldest
-    if (has_first_) {
-      has_first_ = false;
-    } else {
-      rest_.pop_front();
-    }
-    --size;
-    overflowed_.fetch_add(1);
-  }
-  if (!has_first_ && rest_.empty()) {
-    first_ = std::move(sample);
-    has_first_ = true;
-  } else {
-    rest_.push_back(std::move(sample));
-  }
-  size_.store(size + 1, std::memory_order_relaxed);
-}
-
 void Inbox::push(wire::AnyMessage&& sample) noexcept {
   try {
-    if (confined_) {
-      push_locked(std::move(sample));
-    } else {
-      std::lock_guard lock(mutex_);
-      push_locked(std::move(sample));
+    {
+      const auto held = lock();
+      std::size_t size = (has_first_ ? 1 : 0) + rest_.size();
+      if (size >= capacity_) {  // drop the oldest
+        if (has_first_) {
+          has_first_ = false;
+        } else {
+          rest_.pop_front();
+        }
+        --size;
+        overflowed_.fetch_add(1);
+      }
+      if (!has_first_ && rest_.empty()) {
+        first_ = std::move(sample);
+        has_first_ = true;
+      } else {
+        rest_.push_back(std::move(sample));
+      }
+      size_.store(size + 1, std::memory_order_relaxed);
     }
     notifier_->notify();
   } catch (...) {

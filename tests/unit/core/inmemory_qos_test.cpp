@@ -134,52 +134,76 @@ TEST_F(InMemoryQos, MatchedEndpointsNameTheRemoteParticipant) {
 // follow the topic: readers that join after the writer has written get what follows, readers
 // that leave get nothing more, and the remaining ones lose nothing. On a shared bus and on a
 // confined one (one thread, no locks: what run_in_memory uses).
-class InMemoryRoutes : public ::testing::TestWithParam<Threading> {};
+class InMemoryRoutes : public ::testing::TestWithParam<Threading> {
+ protected:
+  std::shared_ptr<InMemoryBus> bus_ = make_inmemory_bus(GetParam());
+  std::unique_ptr<Transport> a_ = make_inmemory_transport(bus_, {0, "a", "retreat:test:a", ""});
+  std::unique_ptr<Transport> b_ = make_inmemory_transport(bus_, {0, "b", "retreat:test:b", ""});
+};
 
 TEST_P(InMemoryRoutes, AWritersReadersFollowTheTopicAfterItHasWritten) {
-  auto bus = make_inmemory_bus(GetParam());
-  auto a = make_inmemory_transport(bus, {0, "a", "retreat:test:a", ""});
-  auto b = make_inmemory_transport(bus, {0, "b", "retreat:test:b", ""});
   const TopicSpec topic{"t/robot_1/proximity", QosIntent::control()};
-  auto writer = a->create_writer<wire::ProximityFrame>(topic);
-  auto first = b->create_reader<wire::ProximityFrame>(topic);
+  auto writer = a_->create_writer<wire::ProximityFrame>(topic);
+  auto first = b_->create_reader<wire::ProximityFrame>(topic);
   ASSERT_EQ(writer.write({1, 1, 0.03, wire::Phase::inside, false, 0}), WriteResult::ok);
   std::vector<wire::ProximityFrame> got;
   {
-    auto second = b->create_reader<wire::ProximityFrame>(topic);
+    auto second = b_->create_reader<wire::ProximityFrame>(topic);
     ASSERT_EQ(writer.write({1, 2, 0.06, wire::Phase::inside, false, 1}), WriteResult::ok);
     second.take(got);
     ASSERT_EQ(got.size(), 1u);  // only what was written after it joined
     EXPECT_EQ(got[0].tick, 2);
   }
   ASSERT_EQ(writer.write({1, 3, 0.09, wire::Phase::inside, false, 0}), WriteResult::ok);
-  EXPECT_TRUE(b->wait(0ns));
+  EXPECT_TRUE(b_->wait(0ns));
   first.take(got);
   ASSERT_EQ(got.size(), 3u);
   for (std::size_t i = 0; i < got.size(); ++i) EXPECT_EQ(got[i].tick, static_cast<std::int64_t>(i + 1));
   EXPECT_EQ(got[1].new_onsets, 1u);
   first.take(got);
   EXPECT_TRUE(got.empty()) << "take(out) clears out";
-  EXPECT_FALSE(b->wait(0ns)) << "nothing arrived since the last wait";
+  EXPECT_FALSE(b_->wait(0ns)) << "nothing arrived since the last wait";
 }
 
 TEST_P(InMemoryRoutes, ADroppedWriterDeliversNothingAndItsTopicStaysUsable) {
-  auto bus = make_inmemory_bus(GetParam());
-  auto a = make_inmemory_transport(bus, {0, "a", "retreat:test:a", ""});
-  auto b = make_inmemory_transport(bus, {0, "b", "retreat:test:b", ""});
   const TopicSpec topic{"t/robot_2/decision", QosIntent::control()};
-  auto reader = b->create_reader<wire::Decision>(topic);
+  auto reader = b_->create_reader<wire::Decision>(topic);
   {
-    auto writer = a->create_writer<wire::Decision>(topic);
+    auto writer = a_->create_writer<wire::Decision>(topic);
     ASSERT_EQ(writer.write({2, 1, 0.03, false}), WriteResult::ok);
   }
-  auto again = a->create_writer<wire::Decision>(topic);
+  auto again = a_->create_writer<wire::Decision>(topic);
   ASSERT_EQ(again.write({2, 2, 0.06, true}), WriteResult::ok);
   const auto got = reader.take();
   ASSERT_EQ(got.size(), 2u);
   EXPECT_FALSE(got[0].retreat);
   EXPECT_TRUE(got[1].retreat);
   EXPECT_EQ(reader.matched_count(), 1u);
+}
+
+// An inbox holds its first sample inside itself and the rest in a queue; full, it drops the
+// oldest, wherever that one is, and counts it. Locked or not, the order is arrival order.
+TEST_P(InMemoryRoutes, AFullInboxDropsTheOldestAndCountsIt) {
+  Inbox inbox(std::make_shared<Notifier>(GetParam()), 2);
+  const auto frame = [](std::int64_t tick) {
+    return wire::AnyMessage{wire::ProximityFrame{1, tick, 0.03 * static_cast<double>(tick), wire::Phase::inside, false, 0}};
+  };
+  const auto ticks = [&] {
+    std::vector<std::int64_t> out;
+    inbox.drain([&](wire::AnyMessage&& m) { out.push_back(std::get<wire::ProximityFrame>(m).tick); });
+    return out;
+  };
+  for (std::int64_t k = 1; k <= 3; ++k) inbox.push(frame(k));  // 1 was the one inside the inbox
+  EXPECT_EQ(inbox.overflowed(), 1u);
+  EXPECT_FALSE(inbox.empty());
+  EXPECT_EQ(ticks(), (std::vector<std::int64_t>{2, 3}));
+  EXPECT_TRUE(inbox.empty());
+  for (std::int64_t k = 4; k <= 7; ++k) inbox.push(frame(k));  // then 4 and 5, from both places
+  EXPECT_EQ(inbox.overflowed(), 3u);
+  EXPECT_EQ(ticks(), (std::vector<std::int64_t>{6, 7}));
+  inbox.push(frame(8));
+  EXPECT_EQ(ticks(), (std::vector<std::int64_t>{8}));
+  EXPECT_EQ(ticks(), (std::vector<std::int64_t>{}));
 }
 
 std::string threading_name(const ::testing::TestParamInfo<Threading>& param) {

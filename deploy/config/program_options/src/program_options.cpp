@@ -60,6 +60,12 @@ SeedRange parse_seed_range(const std::string& text, const std::string& option) {
   return r;
 }
 
+void check_jobs(unsigned jobs) {
+  if (jobs < 1 || jobs > max_jobs) {
+    throw ConfigError("--jobs " + std::to_string(jobs) + ": must be an integer in 1.." + std::to_string(max_jobs));
+  }
+}
+
 Scenario load_scenario(const CommonOptions& options) {
   auto overrides = options.overrides;
   if (!options.dds.empty()) overrides.push_back("dds.vendor=" + options.dds);

@@ -36,9 +36,6 @@ struct LaunchOptions {
   std::optional<unsigned> jobs;  ///< seeds run at once (--in-process); empty: the core count
 };
 
-/// The largest --jobs accepted.
-inline constexpr unsigned max_jobs = 256;
-
 using scenario::parse_seed_range;
 using scenario::SeedRange;
 

@@ -56,8 +56,7 @@ class Inbox {
   /// @p take runs under the inbox's lock (shared): it must not touch this inbox.
   template <class Take>
   void drain(Take&& take) {
-    std::unique_lock lock(mutex_, std::defer_lock);
-    if (!confined_) lock.lock();
+    const auto held = lock();
     if (has_first_) {
       has_first_ = false;
       take(std::move(first_));
@@ -73,7 +72,10 @@ class Inbox {
   std::uint64_t undecodable() const { return undecodable_.load(); }
 
  private:
-  void push_locked(wire::AnyMessage&& sample);
+  /// The inbox's lock, held; none when confined.
+  std::unique_lock<std::mutex> lock() {
+    return confined_ ? std::unique_lock<std::mutex>() : std::unique_lock<std::mutex>(mutex_);
+  }
 
   std::shared_ptr<Notifier> notifier_;
   std::size_t capacity_;

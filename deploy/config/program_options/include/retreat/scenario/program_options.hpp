@@ -77,6 +77,12 @@ struct SeedRange {
 /// @p option, the value and what is allowed.
 SeedRange parse_seed_range(const std::string& text, const std::string& option = "--seeds");
 
+/// The largest `--jobs` (seeds run at once in one process).
+inline constexpr unsigned max_jobs = 256;
+
+/// Checks `--jobs N`: 1 <= N <= max_jobs. @throws ConfigError naming the value and the range.
+void check_jobs(unsigned jobs);
+
 /// Loads the scenario with --set overrides, then --dds and --domain. Throws ConfigError.
 Scenario load_scenario(const CommonOptions& options);
 
