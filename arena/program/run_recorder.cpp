@@ -2,8 +2,10 @@
 
 #include <openssl/evp.h>
 
+#include <algorithm>
 #include <cctype>
 #include <charconv>
+#include <cmath>
 #include <filesystem>
 #include <iomanip>
 #include <nlohmann/json.hpp>
@@ -169,14 +171,26 @@ void RunRecorder::finish(const physics::World& world, const std::vector<AgentRec
   const auto domain = p.shape == physics::DomainShape::ellipse ? physics::Domain::ellipse(p.semi_axis_x, p.semi_axis_y)
                                            : physics::Domain::rectangle(p.width, p.height);
   const double lambda_star = model::lambda_star(scenario_.model);
+  // The last 300 s of run.duration. A swarm that emptied (nobody inside, driving out or
+  // waiting) ends the run early and stays empty: its missing ticks count as zero robots, so the
+  // mean is not taken over the crowded time before the end. A run cut short with robots in it
+  // (stopped, or its agents lost) has no such continuation: its mean is over its own last 300 s.
+  const double end_time = population_.empty() ? 0.0 : population_.back().first;
+  const bool emptied = !population_.empty() && last_.inside == 0 && last_.retreating == 0 &&
+                       last_.waiting == 0 && end_time < scenario_.run.duration - 1e-9;
+  const double span_end = emptied ? scenario_.run.duration : end_time;
   double sum = 0.0;
   std::size_t count = 0;
-  const double end_time = population_.empty() ? 0.0 : population_.back().first;
   for (const auto& [time, inside] : population_) {
-    if (time >= end_time - 300.0) {
+    if (time >= span_end - 300.0 - 1e-9) {
       sum += inside;
       ++count;
     }
+  }
+  if (emptied) {
+    // Ticks are evenly spaced at the world's dt; the ticks after the end add zeros.
+    const double dt = world.params().tick_dt;
+    count += static_cast<std::size_t>(std::llround((span_end - std::max(end_time, span_end - 300.0)) / dt));
   }
   nlohmann::json j;
   j["scenario"] = scenario_.name;
@@ -190,6 +204,8 @@ void RunRecorder::finish(const physics::World& world, const std::vector<AgentRec
   j["optimal_population"] = lambda_star * domain.area();
   j["population"]["final"] = last_.inside;
   j["population"]["mean_last_300s"] = count > 0 ? sum / static_cast<double>(count) : 0.0;
+  j["population"]["emptied_at"] = emptied ? nlohmann::json(end_time) : nlohmann::json(nullptr);
+  j["run_duration"] = scenario_.run.duration;
   j["ticks"] = summary.ticks;
   j["simulated_seconds"] = last_.time;
   j["wall_seconds"] = summary.wall_seconds;

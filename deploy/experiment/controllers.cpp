@@ -17,9 +17,11 @@
 
 #include "ensemble.hpp"
 #include "page.hpp"
+#include "prediction.hpp"
 #include "retreat/agent/controller_registry.hpp"
 #include "retreat/report/figures.hpp"
 #include "retreat/model/optimum.hpp"
+#include "retreat/model/population.hpp"
 #include "retreat/scenario/scenario.hpp"
 #include "retreat/experiment/subcommands.hpp"
 
@@ -57,7 +59,8 @@ struct Tables {
                                       "departed", "lost"}),
         results_csv(out + "/results.csv",
                     {"scenario", "controller", "seeds", "duration", "J_whole_pooled", "J_last_half_pooled",
-                     "J_last_half_mean", "J_last_half_sd", "mean_population_last_half", "final_mean", "final_sd",
+                     "J_last_half_mean", "J_last_half_sd", "mean_population_last_half",
+                     "predicted_population_last_half", "final_mean", "final_sd",
                      "final_min", "final_max", "optimum", "departed_mean", "departed_min", "departed_max",
                      "deliveries_mean", "lost_total"}),
         population(out + "/population.csv", {"ensemble", "time", "mean", "sd", "min", "max"}) {}
@@ -65,8 +68,8 @@ struct Tables {
   nlohmann::json results = nlohmann::json::array(), rows = nlohmann::json::array(), figures = nlohmann::json::array();
   std::string markdown =
       "| scenario | controller | J whole run | J last half | J last half per seed | population last half | "
-      "final population | final min–max | optimum λ*·\\|D\\| | robots that left (min–max) |\n"
-      "|---|---|---|---|---|---|---|---|---|---|\n";
+      "predicted (chain) | final population | final min–max | optimum λ*·\\|D\\| | robots that left (min–max) |\n"
+      "|---|---|---|---|---|---|---|---|---|---|---|\n";
 };
 
 /// Every controller on `c`, one ensemble each (paper first).
@@ -93,24 +96,31 @@ void tabulate(Tables& t, const Case& c, const Ensemble& e, const scenario::Scena
   for (const auto& r : e.runs) lost += r.agents_lost;
   const double optimum = e.runs.front().optimal_population;
   const double jw = pooled_J(e, s.model.C, false), jh = pooled_J(e, s.model.C, true);
+  const double duration = e.runs.front().duration;
+  const auto predicted = predicted_population(s, e.label, duration);
+  const double predicted_half =
+      predicted ? model::time_mean(*predicted, s.agent.dt, duration / 2.0, duration) : std::nan("");
   for (const auto& r : e.runs) {
     t.per_seed.row({c.name, e.label, r.seed, r.whole.J, r.whole.lambda, r.whole.output, r.last_half.J,
                     r.last_half.lambda, r.last_half.output, r.final_population, optimum, r.departed, r.agents_lost});
   }
   t.results_csv.row({c.name, e.label, e.runs.size(), e.runs.front().duration, jw, jh, j_half.mean, j_half.sd,
-                     pop_half.mean, final_pop.mean, final_pop.sd, final_pop.min, final_pop.max, optimum,
+                     pop_half.mean, predicted_half, final_pop.mean, final_pop.sd, final_pop.min, final_pop.max, optimum,
                      departed.mean, departed.min, departed.max, deliveries.mean, lost});
   t.results.push_back({{"scenario", c.name}, {"controller", e.label}, {"seeds", e.runs.size()},
                        {"duration", e.runs.front().duration}, {"J_whole_pooled", jw}, {"J_last_half_pooled", jh},
                        {"J_last_half", {{"mean", j_half.mean}, {"sd", j_half.sd}}},
                        {"mean_population_last_half", {{"mean", pop_half.mean}, {"sd", pop_half.sd}}},
+                       {"predicted_population_last_half",
+                        predicted ? nlohmann::json(predicted_half) : nlohmann::json(nullptr)},
                        {"final_population", {{"mean", final_pop.mean}, {"sd", final_pop.sd}, {"min", final_pop.min},
                                              {"max", final_pop.max}}},
                        {"optimum", optimum}, {"J_at_optimum_ctmc", model::cost(s.model, model::lambda_star(s.model))},
                        {"departed", {{"mean", departed.mean}, {"min", departed.min}, {"max", departed.max}}},
                        {"deliveries_mean", deliveries.mean}, {"agents_lost_total", lost}});
   const std::vector<std::string> cells = {
-      c.name, e.label, fixed(jw, 3), fixed(jh, 3), pm(j_half, 3), pm(pop_half, 2), pm(final_pop, 2),
+      c.name, e.label, fixed(jw, 3), fixed(jh, 3), pm(j_half, 3), pm(pop_half, 2),
+      predicted ? fixed(predicted_half, 2) : std::string("—"), pm(final_pop, 2),
       fixed(final_pop.min, 0) + "–" + fixed(final_pop.max, 0), fixed(optimum, 2),
       fixed(departed.mean, 1) + " (" + fixed(departed.min, 0) + "–" + fixed(departed.max, 0) + ")"};
   t.rows.push_back(cells);
@@ -163,7 +173,9 @@ void write_markdown(const std::string& out, const SeedRange& seeds, const std::s
   md << "Seeds " << seeds.text() << ", in-process, physical world. J = C/output + λ̄ (MODEL.md §4) from the measured "
         "population and deliveries; \"whole run\" and \"last half\" are J of the seeds pooled (mean output, mean λ̄) "
         "over [0, T] and [T/2, T]; \"per seed\" is the mean ± sd of each seed's J over [T/2, T]. Populations are "
-        "robots inside D (mean ± sd over seeds).\n\n"
+        "robots inside D (mean ± sd over seeds); a run whose swarm emptied counts as empty until T. \"predicted "
+        "(chain)\" is the population chain's mean over [T/2, T] (retreat::model::expected_population: each robot's "
+        "chance averaged over a Poisson window count at the model's encounter rate; — for a rule with memory).\n\n"
      << markdown;
   if (!md.flush()) throw RunFailure("cannot write '" + out + "/results.md'");
 }
@@ -173,7 +185,8 @@ void write_page(const std::string& out, const SeedRange& seeds, const std::vecto
                 const Tables& t) {
   nlohmann::json table = {{"title", "Controllers on the same seeds"},
                           {"columns", {"scenario", "controller", "J whole run", "J last half", "J last half per seed",
-                                       "population last half", "final population", "final min–max", "optimum",
+                                       "population last half", "predicted (chain)", "final population",
+                                       "final min–max", "optimum",
                                        "robots that left"}},
                           {"rows", t.rows}};
   std::string names;

@@ -90,6 +90,25 @@ SpanCost span_cost(const Telemetry& t, double from, double to, double area, doub
   return s;
 }
 
+/// A swarm that emptied ends its run early (summary.json's `population.emptied_at`) and would
+/// stay empty: the ticks up to `run_duration` are added with nobody inside and no deliveries, so
+/// every span is measured against the run's configured length, not against a crowded start.
+void pad_emptied_run(Telemetry& t, const nlohmann::json& summary) {
+  const auto emptied = summary.find("population");
+  if (emptied == summary.end() || !emptied->contains("emptied_at") || emptied->at("emptied_at").is_null()) return;
+  const double duration = summary.value("run_duration", 0.0);
+  const double dt = t.time[1] - t.time[0];
+  const double end = t.time.back();
+  const auto missing = static_cast<std::size_t>(std::llround((duration - end) / dt));
+  for (std::size_t k = 1; k <= missing; ++k) {
+    t.time.push_back(end + dt * static_cast<double>(k));
+    t.inside.push_back(0.0);
+    t.retreating.push_back(0.0);
+    t.departed.push_back(t.departed.back());
+    t.deliveries.push_back(t.deliveries.back());
+  }
+}
+
 std::uint64_t seed_of(const fs::path& p) { return std::strtoull(p.filename().string().c_str() + 5, nullptr, 10); }
 
 }  // namespace
@@ -118,7 +137,8 @@ std::vector<SeedRun> read_seed_runs(const std::string& launch_out, double C, dou
     r.optimal_population = summary.at("optimal_population").get<double>();
     r.agents_lost = summary.at("agents").value("lost", 0u);
     r.trajectory_sha256 = summary.value("trajectory_sha256", std::string());
-    const auto t = read_telemetry((d / "telemetry.csv").string());
+    auto t = read_telemetry((d / "telemetry.csv").string());
+    pad_emptied_run(t, summary);
     r.duration = t.time.back();
     r.final_population = t.inside.back();
     r.departed = t.departed.back();

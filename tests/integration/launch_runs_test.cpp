@@ -200,6 +200,36 @@ TEST(LaunchRuns, EveryShippedScenarioSweepsAlikeOneByOneAndAtOnce) {
   EXPECT_GE(checked, 5u) << "the shipped scenarios were not found in " << scenarios;
 }
 
+// A swarm that empties ends its run early; its statistics still cover run.duration, with the
+// missing time as an empty swarm (issue 14: the mean of the last 300 s used to average the
+// crowded start). With a tiny C, λ* is 0.03 robots/m², so every one of the 8 robots leaves at its
+// first decision (L = 60 s): the run ends near 100 s, long before the last 300 s of 400.
+TEST(LaunchRuns, ASwarmThatEmptiesEarlyCountsTheRestOfTheRunAsEmpty) {
+  const auto dir = fresh_dir("emptied-early");
+  ASSERT_EQ(run_launch(dir, {robotarium, "--in-process", "--set", "model.C=1e-6", "--set", "agent.L=60", "--set",
+                             "arena.robots_waiting=0", "--set", "run.duration=400"}),
+            0)
+      << log_of(dir);
+  const auto j = read_json(dir + "/run/summary.json");
+  ASSERT_FALSE(j.empty()) << log_of(dir);
+  EXPECT_EQ(j["population"]["final"], 0);
+  EXPECT_EQ(j["run_duration"], 400.0);
+  ASSERT_TRUE(j["population"]["emptied_at"].is_number()) << j.dump();
+  const double emptied_at = j["population"]["emptied_at"].get<double>();
+  EXPECT_GT(emptied_at, 60.0);  // nobody decides before L
+  EXPECT_LT(emptied_at, 100.0) << "the scenario no longer empties early; the test needs another one";
+  EXPECT_EQ(j["simulated_seconds"], emptied_at);
+  EXPECT_EQ(j["population"]["mean_last_300s"], 0.0);  // [100, 400] s: nobody inside
+
+  // A run that does not empty says so, and keeps its own last 300 s.
+  const auto full = fresh_dir("not-emptied");
+  ASSERT_EQ(run_launch(full, args({robotarium, "--in-process"}, short_robotarium)), 0) << log_of(full);
+  const auto f = read_json(full + "/run/summary.json");
+  ASSERT_FALSE(f.empty()) << log_of(full);
+  EXPECT_TRUE(f["population"]["emptied_at"].is_null());
+  EXPECT_GT(f["population"]["mean_last_300s"].get<double>(), 0.0);
+}
+
 TEST(LaunchRuns, AnEndlessQueueStartsAgentsAsRobotsJoinAndGivesTheInProcessTrajectory) {
   const std::string vendor = built("cyclonedds") ? "cyclonedds" : "fastdds";
   // steady-influx shortened to 300 simulated seconds: 8 robots inside, 2 waiting, and a new robot

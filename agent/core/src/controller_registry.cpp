@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "retreat/agent/confident_controller.hpp"
+#include "retreat/agent/early_confident_controllers.hpp"
 #include "retreat/agent/influx_aware_controller.hpp"
 #include "retreat/agent/paper_controller.hpp"
 
@@ -31,6 +32,9 @@ constexpr std::array registry{
     Registration{ConfidentController::registered_name, &make<ConfidentController>},
     Registration{InfluxAwareController::registered_name, &make<InfluxAwareController>},
     Registration{InfluxAwareController::confident_name, &make_confident_influx_aware},
+    Registration{ConfidentProportionalController::registered_name,
+                 &make<ConfidentProportionalController>},
+    Registration{InfluxMatchingController::registered_name, &make<InfluxMatchingController>},
 };
 
 const Registration* find(std::string_view name) {

@@ -34,7 +34,14 @@ RetreatAgent::RetreatAgent(std::uint32_t robot_id, model::ModelParams model, Age
       controller_(controller ? std::move(controller) : make_controller(agent_.controller)),
       coin_key_(seed),
       window_(agent_.L),
-      tolerance_(step_tolerance * agent_.dt) {}
+      tolerance_(step_tolerance * agent_.dt),
+      first_decision_(controller_->first_decision_after(agent_)) {
+  if (!std::isfinite(first_decision_) || first_decision_ < 0.0) {
+    throw std::invalid_argument("controller '" + std::string(controller_->name()) +
+                                "' decides from time inside " + std::to_string(first_decision_) +
+                                " s: must be finite and >= 0");
+  }
+}
 
 FrameVerdict RetreatAgent::check(const Observation& frame) const {
   if (frame.robot_id != robot_id_) {
@@ -86,8 +93,8 @@ bool RetreatAgent::take_due_steps(double frame_time) {
       return false;
     }
     ++next_step_;
-    if (time_inside + tolerance_ < agent_.L) {
-      continue;  // still filling the first window: no decision
+    if (time_inside + tolerance_ < first_decision_) {
+      continue;  // still filling the first window (L for `paper`): no decision
     }
     const double at = std::abs(step_time - frame_time) <= tolerance_ ? frame_time : step_time;
     if (decide(at, time_inside)) {

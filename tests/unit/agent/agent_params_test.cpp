@@ -45,7 +45,8 @@ TEST(AgentParams, RejectsAnUnknownControllerListingTheValidNames) {
   AgentParams p;
   p.controller = "foo";
   EXPECT_EQ(validation_message(p), "agent.controller = 'foo': must be one of paper, confident, "
-                                  "influx-aware, confident-influx-aware");
+                                  "influx-aware, confident-influx-aware, confident-proportional, "
+                                  "influx-matching");
 }
 
 TEST(AgentParams, NamesTheFieldAndTheValueOfEveryOutOfRangeNumber) {

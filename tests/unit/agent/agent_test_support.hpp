@@ -47,6 +47,19 @@ class FixedProbability final : public Controller {
   double p_;
 };
 
+/// A controller that always returns the same probability, from a chosen time inside on.
+class FixedProbabilityFrom final : public Controller {
+ public:
+  FixedProbabilityFrom(double p, double first) : p_(p), first_(first) {}
+  double retreat_probability(const ControllerInput&) override { return p_; }
+  double first_decision_after(const AgentParams&) const override { return first_; }
+  std::string_view name() const override { return "fixed-from"; }
+
+ private:
+  double p_;
+  double first_;
+};
+
 /// Expects equal algorithm state (everything but the frame counters).
 inline void expect_same_state(const AgentSnapshot& a, const AgentSnapshot& b) {
   EXPECT_EQ(a.tick, b.tick);

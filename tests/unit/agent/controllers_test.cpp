@@ -6,10 +6,12 @@
 
 #include <cmath>
 #include <cstdint>
+#include <stdexcept>
 #include <type_traits>
 
 #include "retreat/agent/confident_controller.hpp"
 #include "retreat/agent/controller_registry.hpp"
+#include "retreat/agent/early_confident_controllers.hpp"
 #include "retreat/agent/influx_aware_controller.hpp"
 #include "retreat/model/control.hpp"
 #include "retreat/model/encounter.hpp"
@@ -50,9 +52,11 @@ struct Step {
   AgentParams agent;
   OnsetWindow window{90.0};
 
-  ControllerInput at(double t, std::uint64_t onsets) const {
-    return ControllerInput{t,       t,     onsets, agent.L, agent.dt, model::mle_density(onsets, model.delta, model.v, agent.L),
-                           model,   agent, window};
+  ControllerInput at(double t, std::uint64_t onsets) const { return inside_for(t, t, onsets); }
+  // The same at time t, `inside` seconds after the robot's entry.
+  ControllerInput inside_for(double t, double inside, std::uint64_t onsets) const {
+    return ControllerInput{t,     inside, onsets, agent.L, agent.dt, model::mle_density(onsets, model.delta, model.v, agent.L),
+                           model, agent,  window};
   }
   double lambda_star() const { return model::lambda_star(model); }
   // The window count whose MLE is closest to `lambda` [robots/m²].
@@ -63,11 +67,21 @@ struct Step {
 
 TEST(Controllers, AreAllRegisteredAfterThePaperController) {
   const auto names = controller_names();
-  ASSERT_EQ(names.size(), 4U);
+  ASSERT_EQ(names.size(), 6U);
   EXPECT_EQ(names[0], "paper");
   EXPECT_EQ(names[1], "confident");
   EXPECT_EQ(names[2], "influx-aware");
   EXPECT_EQ(names[3], "confident-influx-aware");
+  EXPECT_EQ(names[4], "confident-proportional");
+  EXPECT_EQ(names[5], "influx-matching");
+}
+
+TEST(Controllers, ThoseBuiltOnThePapersLoopWaitOneWindowAndTheEarlyOnesDecideFromEntry) {
+  const AgentParams agent;
+  for (const auto& name : controller_names()) {
+    const bool early = name == "confident-proportional" || name == "influx-matching";
+    EXPECT_EQ(make_controller(name)->first_decision_after(agent), early ? 0.0 : agent.L) << name;
+  }
 }
 
 // --- confident ------------------------------------------------------------------------------
@@ -114,6 +128,81 @@ TEST(ConfidentController, RejectsANegativeOrNonFiniteZ) {
   EXPECT_THROW(ConfidentController{-1.0}, std::invalid_argument);
   EXPECT_THROW(ConfidentController{NAN}, std::invalid_argument);
   EXPECT_THROW(InfluxAwareController{INFINITY}, std::invalid_argument);
+}
+
+// --- confident-proportional and influx-matching ---------------------------------------------
+
+TEST(ConfidentPartialDensity, CountsOverTheTimeInsideUntilAWholeWindowThenOverL) {
+  const Step s;
+  const double c = model::swept_rate(s.model);
+  // 30 s inside: 16 onsets are 16/(30c) robots/m², lowered by √16 = 4.
+  EXPECT_EQ(counted_span(s.inside_for(130.0, 30.0, 16)), 30.0);
+  EXPECT_NEAR(confident_partial_density(s.inside_for(130.0, 30.0, 16), 1.0), 12.0 / (c * 30.0), 1e-12);
+  EXPECT_NEAR(confident_partial_density(s.inside_for(130.0, 30.0, 16), 0.0), 16.0 / (c * 30.0), 1e-12);
+  // From L on it is lower_confidence_density over L.
+  EXPECT_EQ(counted_span(s.inside_for(500.0, 400.0, 16)), s.agent.L);
+  EXPECT_DOUBLE_EQ(confident_partial_density(s.inside_for(500.0, 400.0, 16), 1.0),
+                   lower_confidence_density(16, s.model, s.agent.L, 1.0));
+}
+
+TEST(ConfidentProportionalController, IsThePapersRateWithoutInfluxOnTheConfidentPartialEstimate) {
+  Step s;
+  ConfidentProportionalController rule;
+  const double lambda_star = s.lambda_star();
+  for (const double inside : {0.03, 10.0, 45.0, 90.0, 600.0}) {
+    for (const std::uint64_t y : {0, 1, 5, 9, 16, 40, 200}) {
+      const auto input = s.inside_for(1000.0, inside, y);
+      const double low = confident_partial_density(input, 1.0);
+      const double expected = low > lambda_star ? s.agent.K_p * (low - lambda_star) / low * s.agent.dt : 0.0;
+      EXPECT_NEAR(rule.retreat_probability(input), expected, 1e-15) << inside << " s, y = " << y;
+    }
+  }
+  // The configured influx plays no part.
+  const double before = rule.retreat_probability(s.inside_for(100.0, 100.0, 40));
+  ASSERT_GT(before, 0.0);
+  s.agent.lambda_in = 0.5;
+  EXPECT_EQ(rule.retreat_probability(s.inside_for(100.0, 100.0, 40)), before);
+}
+
+TEST(ConfidentProportionalController, AYoungRobotWithFewOnsetsStaysWhereTheMleWouldLeave) {
+  const Step s;
+  // 10 s inside, 2 onsets: the MLE over 10 s is 3.9 robots/m² (2.6 λ*), the lowered one
+  // (2 − √2)/(10c) = 1.15 is below λ*.
+  const auto input = s.inside_for(10.0, 10.0, 2);
+  ASSERT_GT(confident_partial_density(input, 0.0), 2.0 * s.lambda_star());
+  ASSERT_LT(confident_partial_density(input, 1.0), s.lambda_star());
+  EXPECT_EQ(ConfidentProportionalController{}.retreat_probability(input), 0.0);
+}
+
+TEST(InfluxMatchingController, LeavesAtLambdaInOverLambdaStarBelowTheOptimum) {
+  const Step s;
+  InfluxMatchingController rule;
+  const double matching = s.agent.lambda_in / s.lambda_star() * s.agent.dt;  // 0.02/1.5076 · 0.03
+  for (const std::uint64_t y : {0, 3, 7, 9}) {
+    EXPECT_DOUBLE_EQ(rule.retreat_probability(s.inside_for(200.0, 200.0, y)), matching) << y;
+  }
+  EXPECT_DOUBLE_EQ(rule.retreat_probability(s.inside_for(0.03, 0.03, 0)), matching);
+}
+
+TEST(InfluxMatchingController, AddsTheConfidentProportionalTermAboveTheOptimum) {
+  Step s;
+  InfluxMatchingController rule;
+  ConfidentProportionalController proportional;
+  const auto input = s.inside_for(300.0, 300.0, 40);
+  ASSERT_GT(proportional.retreat_probability(input), 0.0);
+  EXPECT_DOUBLE_EQ(rule.retreat_probability(input),
+                   s.agent.lambda_in / s.lambda_star() * s.agent.dt + proportional.retreat_probability(input));
+  // With no influx configured it is confident-proportional.
+  s.agent.lambda_in = 0.0;
+  for (const std::uint64_t y : {0, 9, 40}) {
+    const auto in = s.inside_for(300.0, 300.0, y);
+    EXPECT_EQ(rule.retreat_probability(in), proportional.retreat_probability(in)) << y;
+  }
+}
+
+TEST(ConfidentProportionalController, RejectsANegativeOrNonFiniteZ) {
+  EXPECT_THROW(ConfidentProportionalController{-0.5}, std::invalid_argument);
+  EXPECT_THROW(InfluxMatchingController{NAN}, std::invalid_argument);
 }
 
 // --- influx-aware ---------------------------------------------------------------------------

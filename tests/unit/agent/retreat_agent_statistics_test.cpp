@@ -2,10 +2,12 @@
 
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <set>
 
 #include "agent_test_support.hpp"
+#include "retreat/agent/early_confident_controllers.hpp"
 #include "retreat/agent/retreat_agent.hpp"
 #include "retreat/core/seed.hpp"
 #include "retreat/model/control.hpp"
@@ -65,6 +67,38 @@ TEST(RetreatAgent, RetreatsAtEachStepWithProbabilityEpsilonTimesDt) {
   EXPECT_NEAR(static_cast<double>(retreated_at_10) / robots, p, 5.0 * sigma_10);
   const double sigma_11 = std::sqrt(p * (1.0 - p) / deciding_at_11);
   EXPECT_NEAR(static_cast<double>(retreated_at_11) / deciding_at_11, p, 5.0 * sigma_11);
+}
+
+TEST(RetreatAgent, UnderInfluxMatchingARobotWithoutEncountersStaysLambdaStarOverLambdaInOnAverage) {
+  // influx-matching leaves at ε = λ_in/λ* (= 0.0133 /s, experiment parameters) at every step from
+  // entry while the confident estimate is not above λ* (no onsets at all here): each step's coin
+  // retreats with p = ε·dt = 3.98e-4, so the step of the retreat is geometric and the time inside
+  // k·dt has mean dt/p = λ*/λ_in = 75.4 s, the mean stay that makes the M/G/∞ mean population
+  // λ_in|D| · λ*/λ_in = λ*|D|. Over n = 4000 robots (independent seeds) the sample mean has a
+  // standard error of sqrt(1 − p)/p·dt/sqrt(n) = 1.19 s; 5 standard errors (6.0 s) fail a correct
+  // agent with probability 5.7e-7. The decision rule is also checked exactly: every retreat is
+  // at a step time, none before the first step.
+  const model::ModelParams model;
+  const AgentParams params;
+  const double p = params.lambda_in / model::lambda_star(model) * params.dt;
+  const double mean_stay = params.dt / p;
+  const int robots = 4000;
+  double sum = 0.0;
+  for (int id = 0; id < robots; ++id) {
+    const auto robot_id = static_cast<std::uint32_t>(id);
+    RetreatAgent agent(robot_id, model, params, std::make_unique<InfluxMatchingController>(),
+                       seed_for(2026, robot_id, Stream::agent_decision));
+    std::int64_t tick = 0;
+    while (!agent.on_frame(frame_at(tick, params.dt, 0, RobotPhase::inside, robot_id)).retreat_now) {
+      ++tick;
+      ASSERT_LT(tick, 2'000'000) << "robot " << id << " never left";
+    }
+    ASSERT_GE(tick, 1);  // entry at tick 0, first step k = 1
+    sum += static_cast<double>(tick) * params.dt;
+  }
+  const double standard_error = std::sqrt(1.0 - p) / p * params.dt / std::sqrt(robots);
+  EXPECT_NEAR(sum / robots, mean_stay, 5.0 * standard_error);
+  EXPECT_NEAR(mean_stay, model::lambda_star(model) / params.lambda_in, 1e-9);
 }
 
 /// Runs one robot for up to 20000 lockstep frames with a steady onset stream (λ̂ ≈ 140,

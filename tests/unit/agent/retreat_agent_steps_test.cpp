@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <stdexcept>
 
 #include "agent_test_support.hpp"
 #include "retreat/agent/retreat_agent.hpp"
@@ -53,6 +54,34 @@ TEST(RetreatAgent, TakesNoDecisionBeforeItHasBeenInsideForL) {
   agent.on_frame(frame_at(3000, dt));
   EXPECT_EQ(agent.status().decision_steps, 1u);
   EXPECT_EQ(agent.status().onsets_in_window, 30u);  // ticks 1, 101, ..., 2901
+}
+
+TEST(RetreatAgent, AsksAControllerThatDecidesEarlierFromItsOwnFirstDecisionTime) {
+  // L = 90 s; the controller decides from 1.5 s inside: entry at tick 5, first coin at step 50
+  // (t_k − t_entry = 1.5 s), with the onsets counted since entry in the window.
+  AgentParams params;
+  RetreatAgent agent(0, {}, params, std::make_unique<testing::FixedProbabilityFrom>(0.0, 1.5));
+  for (std::int64_t tick = 0; tick < 5; ++tick) {
+    agent.on_frame(frame_at(tick, params.dt, 1, RobotPhase::waiting));  // not counted: outside
+  }
+  for (std::int64_t tick = 5; tick < 5 + 49; ++tick) {
+    agent.on_frame(frame_at(tick, params.dt, tick == 6 ? 2 : 0));
+  }
+  EXPECT_EQ(agent.status().steps, 48u);
+  EXPECT_EQ(agent.status().decision_steps, 0u);
+  agent.on_frame(frame_at(5 + 49, params.dt));
+  agent.on_frame(frame_at(5 + 50, params.dt));
+  EXPECT_EQ(agent.status().steps, 50u);
+  EXPECT_EQ(agent.status().decision_steps, 1u);
+  EXPECT_EQ(agent.status().onsets_in_window, 2u);
+}
+
+TEST(RetreatAgent, RefusesAControllerWhoseFirstDecisionTimeIsNegativeOrNotFinite) {
+  for (const double first : {-1.0, std::nan(""), HUGE_VAL}) {
+    EXPECT_THROW(RetreatAgent(0, {}, {}, std::make_unique<testing::FixedProbabilityFrom>(0.0, first)),
+                 std::invalid_argument)
+        << first;
+  }
 }
 
 TEST(RetreatAgent, RetreatsAtExactlyTheFirstDecisionTickWhenEpsilonDtIsAtLeastOne) {

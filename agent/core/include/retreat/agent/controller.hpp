@@ -15,8 +15,10 @@ namespace retreat::agent {
 struct ControllerInput {
   double time;                      ///< t_k on the robot's own clock [s] (the frame's time if
                                     ///< within 1e-9·dt of it)
-  double time_inside;               ///< t_k − t_entry = k·dt, time since own entry [s], >= L
-  std::uint64_t onsets_in_window;   ///< y_iL(t_k), onsets in [t_k − L, t_k] [-]
+  double time_inside;               ///< t_k − t_entry = k·dt, time since own entry [s], at
+                                    ///< least Controller::first_decision_after (L for `paper`)
+  std::uint64_t onsets_in_window;   ///< y_iL(t_k), onsets in [t_k − L, t_k] [-]; before L that
+                                    ///< is every onset since entry (none are counted outside D)
   double L;                         ///< window length L [s]
   double dt;                        ///< decision period dt [s]
   double lambda_hat;                ///< λ̂ = y_iL / (4δ(4/π)vL) [robots/m²]
@@ -40,6 +42,12 @@ class Controller {
   /// Probability of retreating at this step [-]. May fall outside [0, 1]; the agent clamps it.
   /// Must not be NaN. Called once per decision step with non-decreasing `input.time`.
   virtual double retreat_probability(const ControllerInput& input) = 0;
+
+  /// Time inside D from which this controller decides [s], finite and >= 0: the agent asks it
+  /// (and flips a coin) at every step k with k·dt >= this, from t_entry on. The paper's loop waits
+  /// until the first window lies wholly inside D ("t > L"), and so do the controllers built on
+  /// it; a controller that decides from a partial window returns less.
+  virtual double first_decision_after(const AgentParams& agent) const { return agent.L; }
 
   /// The registered name (`paper`, ...), as written in the scenario's `agent.controller`.
   virtual std::string_view name() const = 0;

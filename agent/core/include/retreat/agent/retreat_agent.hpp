@@ -28,7 +28,7 @@ struct AgentSnapshot {
   std::optional<std::int64_t> tick;  ///< last accepted frame's tick (none before the first)
   double time = 0.0;                 ///< last accepted frame's time [s]
   std::optional<double> entry_time;  ///< t_entry: first accepted `inside` frame's time [s]
-  bool deciding = false;             ///< has made a decision step (inside >= L) and not stopped
+  bool deciding = false;             ///< has made a decision step and not stopped
   bool stopped = false;     ///< no more steps: decided, or the phase became retreating/departed
   bool retreating = false;  ///< has decided to retreat (sticky)
   std::uint64_t onsets_in_window = 0;  ///< y_iL at the last decision step [-]
@@ -36,7 +36,7 @@ struct AgentSnapshot {
   double epsilon = 0.0;                ///< controller's rate at the last decision step, p/dt before
                                        ///< clamping [1/s] (ε(λ̂) for `paper`)
   std::uint64_t steps = 0;             ///< steps taken, k of the last step (with or without a coin)
-  std::uint64_t decision_steps = 0;    ///< steps at which a coin was flipped (t_k − t_entry >= L)
+  std::uint64_t decision_steps = 0;    ///< steps at which a coin was flipped (from L for `paper`)
   std::optional<double> decision_time;  ///< t_k of the step that decided to retreat [s]
   FrameCounts frames;                   ///< frames seen, per verdict
 };
@@ -54,7 +54,8 @@ struct AgentSnapshot {
 /// time, so a frame's own onsets are in its own step's window.
 ///
 /// At a step with k·dt >= L (within 1e-9·dt: the first coin is at t_k − t_entry = L, when the
-/// window [t_k − L, t_k] first lies wholly inside D; the paper's loop reads "t > L"):
+/// window [t_k − L, t_k] first lies wholly inside D; the paper's loop reads "t > L"; a controller
+/// may start earlier, Controller::first_decision_after):
 /// y = onsets in [t_k − L, t_k], λ̂ = y / (4δ(4/π)vL), p = clamp(controller p, 0, 1), and the
 /// agent retreats if its coin for step k, u_k = counter_uniform(seed, k) ~ U[0, 1), is < p
 /// (always if p >= 1). The coin of step k depends on the seed and k alone, not on how many
@@ -106,6 +107,7 @@ class RetreatAgent {
   std::uint64_t coin_key_;  // counter_uniform(coin_key_, k) is step k's coin
   OnsetWindow window_;
   double tolerance_;  // 1e-9·dt [s]
+  double first_decision_;  // the controller's first_decision_after [s] (L for `paper`)
 
   FrameCounts frames_;
   std::optional<std::int64_t> last_tick_;
