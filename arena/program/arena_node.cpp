@@ -4,6 +4,7 @@
 #include <cmath>
 #include <thread>
 
+#include "retreat/core/seed.hpp"
 #include "retreat/wire/topics.hpp"
 
 namespace retreat::arena {
@@ -18,6 +19,7 @@ struct ArenaNode::Robot {
   bool retreat = false;       ///< the answer for the current tick (or, real time, any answer)
   bool commanded = false;     ///< the world was told to retreat this robot
   wire::Phase phase = wire::Phase::waiting;
+  std::uint32_t sensed_onsets = 0;  ///< the current frame's onsets as the robot's sensor reports them
   AgentRecord record;
   transport::Writer<wire::ProximityFrame> frames;
   transport::Reader<wire::Decision> decisions;
@@ -52,6 +54,7 @@ ArenaNode::ArenaNode(const scenario::Scenario& scenario, transport::Transport& t
       transport_(transport),
       recorder_(recorder),
       world_(physics::make_world(scenario.arena)),
+      sensor_{scenario.arena.missed_onsets, scenario.arena.false_onsets, scenario.arena.tick_dt},
       telemetry_(transport.create_writer<wire::ArenaTelemetry>(
           {wire::arena_telemetry_topic(scenario.dds.prefix), transport::QosIntent::state()})),
       poses_(transport.create_writer<wire::Poses>(
@@ -109,7 +112,10 @@ void ArenaNode::publish_tick() {
   for (const auto& f : world_->frames()) {
     auto& r = robot(f.id);
     r.phase = to_wire(f.phase);
-    const wire::ProximityFrame frame{f.id, f.tick, f.time, r.phase, f.in_contact, f.new_onsets};
+    r.sensed_onsets = sensor_.perfect()
+                          ? f.new_onsets
+                          : sensor_.sense(f.new_onsets, seed_for(scenario_.seed, f.id, Stream::sensor), f.tick);
+    const wire::ProximityFrame frame{f.id, f.tick, f.time, r.phase, f.in_contact, r.sensed_onsets};
     r.answered = false;
     if (!r.commanded) r.retreat = false;
     r.expecting = !r.record.lost && f.phase != physics::Phase::departed;
@@ -219,7 +225,7 @@ void ArenaNode::resend_unanswered() {
   for (const auto& f : world_->frames()) {
     auto& r = robot(f.id);
     if (!r.expecting || r.answered || r.record.lost) continue;
-    r.frames.write({f.id, f.tick, f.time, r.phase, f.in_contact, f.new_onsets});
+    r.frames.write({f.id, f.tick, f.time, r.phase, f.in_contact, r.sensed_onsets});
     ++counters_.resent_frames;
   }
 }

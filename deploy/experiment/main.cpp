@@ -6,6 +6,7 @@
 //   robotarium   population against time over many seeds (agent processes, in-process, endless
 //                queue, kinetic world), run by retreat-launch
 //   controllers  every registered controller against paper on the same seeds (J of MODEL.md §4)
+//   noise        every registered controller with missed and false onsets (sensing noise)
 // Reads the shipped scenarios (--scenarios DIR); runs retreat-launch (beside this program, or
 // --launcher) as a child process. No DDS of its own: the launcher and its children use DDS in
 // `robotarium`'s process set-up only.
@@ -47,6 +48,7 @@ int run_reported(const ExperimentCommand& command) {
           if constexpr (std::is_same_v<Options, ThroughputOptions>) return run_throughput(o);
           if constexpr (std::is_same_v<Options, RobotariumOptions>) return run_robotarium(o);
           if constexpr (std::is_same_v<Options, ControllersOptions>) return run_controllers(o);
+          if constexpr (std::is_same_v<Options, NoiseOptions>) return run_noise(o);
         },
         command.options);
   } catch (const Stopped& s) {

@@ -282,6 +282,46 @@ TEST(Experiment, ControllersQuickRunComparesEveryRegisteredControllerOnBothQueue
   EXPECT_EQ(figure(page, "population-endless")["series"].size(), names.size() + 1);
 }
 
+TEST(Experiment, NoiseQuickRunGivesEveryRuleOnEverySensorAndTheCorrectedRules) {
+  const auto dir = fresh_dir("noise");
+  const auto [code, output] = run(dir, {"noise", "--quick", "--seeds", "1:1", "--out", dir + "/out"});
+  ASSERT_EQ(code, 0) << output;
+  const auto names = retreat::agent::controller_names();
+  const auto results = read_csv(dir + "/out/results.csv");
+  expect_columns(results, {"scenario", "noise", "missed_onsets", "false_onsets", "controller", "corrected", "seeds",
+                           "mean_population_last_half", "sd_population_last_half", "J_last_half_pooled", "optimum"});
+  // 5 sensors × every rule, and the 2 correcting rules again on the 4 imperfect sensors, per queue.
+  ASSERT_EQ(results.rows.size(), 2 * (5 * names.size() + 4 * 2));
+  expect_finite(results, {"missed_onsets", "false_onsets", "seeds", "mean_population_last_half", "optimum"},
+                "results.csv");
+  std::size_t corrected = 0;
+  for (std::size_t i = 0; i < results.rows.size(); ++i) {
+    if (results.number(i, "corrected") == 1.0) {
+      ++corrected;
+      EXPECT_TRUE(results.number(i, "missed_onsets") > 0.0 || results.number(i, "false_onsets") > 0.0) << i;
+    }
+  }
+  EXPECT_EQ(corrected, 16u);
+  // The sensors differ: a rule's population is not the same under every one of them.
+  std::set<std::string> paper_finite;
+  for (std::size_t i = 0; i < results.rows.size(); ++i) {
+    if (results.rows[i][results.column("scenario")] == "finite" && results.rows[i][results.column("controller")] == "paper") {
+      paper_finite.insert(results.rows[i][results.column("mean_population_last_half")]);
+    }
+  }
+  EXPECT_GT(paper_finite.size(), 1u);
+  const auto page = figures_of(dir + "/out/report.html");
+  for (const char* id : {"population-finite-missed", "population-finite-false", "population-endless-missed",
+                         "population-endless-false"}) {
+    // every rule, the 2 corrected ones, the optimum
+    EXPECT_EQ(figure(page, id)["series"].size(), names.size() + 2 + 1) << id;
+  }
+  // Each seed's telemetry is dropped once read; its summary stays.
+  const auto seed_dir = dir + "/out/runs/finite/perfect/paper/seed_1";
+  EXPECT_TRUE(fs::exists(seed_dir + "/summary.json"));
+  EXPECT_FALSE(fs::exists(seed_dir + "/telemetry.csv"));
+}
+
 // Bad input: one line on stderr naming the value, exit code 2, nothing run.
 struct BadInput {
   std::string name;
@@ -310,6 +350,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"unknown_subcommand", {"fly", "--out", "/tmp/x"}, "fly"},
         BadInput{"no_subcommand", {}, "subcommand"},
         BadInput{"reversed_seeds", {"controllers", "--seeds", "5:1", "--out", "/nonexistent/out"}, "5:1"},
+        BadInput{"noise_reversed_seeds", {"noise", "--seeds", "5:1", "--out", "/nonexistent/out"}, "5:1"},
         BadInput{"seeds_not_a_range", {"robotarium", "--seeds", "abc", "--out", "/nonexistent/out"}, "abc"},
         BadInput{"missing_scenarios", {"encounters", "--scenarios", "/nonexistent/scenarios"}, "/nonexistent/scenarios"},
         BadInput{"bad_lambdas", {"throughput", "--lambdas", "0.5,x", "--out", "/nonexistent/out"}, "0.5,x"},

@@ -230,6 +230,27 @@ TEST(LaunchRuns, ASwarmThatEmptiesEarlyCountsTheRestOfTheRunAsEmpty) {
   EXPECT_GT(f["population"]["mean_last_300s"].get<double>(), 0.0);
 }
 
+// Sensing noise (arena.missed_onsets, arena.false_onsets) changes what the agents hear in both
+// worlds, the same way on every run of the same seed.
+TEST(LaunchRuns, SensingNoiseChangesTheDecisionsInBothWorldsReproducibly) {
+  for (const std::string world : {"physical", "kinetic"}) {
+    const auto run = [&](const std::string& name, const std::vector<std::string>& noise) {
+      const auto dir = fresh_dir("noise-" + world + "-" + name);
+      std::vector<std::string> argv = {robotarium, "--in-process", "--set", "run.duration=200", "--set",
+                                       "arena.encounter_model=" + world};
+      for (const auto& n : noise) argv.insert(argv.end(), {"--set", n});
+      EXPECT_EQ(run_launch(dir, argv), 0) << log_of(dir);
+      return read_json(dir + "/run/summary.json");
+    };
+    const auto clean = run("clean", {});
+    const auto noisy = run("noisy", {"arena.missed_onsets=0.4", "arena.false_onsets=0.05"});
+    const auto again = run("again", {"arena.missed_onsets=0.4", "arena.false_onsets=0.05"});
+    ASSERT_FALSE(clean.empty() || noisy.empty() || again.empty()) << world;
+    EXPECT_NE(noisy["trajectory_sha256"], clean["trajectory_sha256"]) << world;
+    EXPECT_EQ(again["trajectory_sha256"], noisy["trajectory_sha256"]) << world;
+  }
+}
+
 TEST(LaunchRuns, AnEndlessQueueStartsAgentsAsRobotsJoinAndGivesTheInProcessTrajectory) {
   const std::string vendor = built("cyclonedds") ? "cyclonedds" : "fastdds";
   // steady-influx shortened to 300 simulated seconds: 8 robots inside, 2 waiting, and a new robot

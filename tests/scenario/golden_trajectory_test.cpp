@@ -101,7 +101,9 @@ TEST(GoldenTrajectory, EveryRecordedControllerDecidesUnlikePaper) {
   }
   ASSERT_FALSE(paper.empty());
   for (const auto& c : golden_cases()) {
-    if (c.at("controller") != "paper") EXPECT_NE(c.at("trajectory_sha256"), paper) << c.at("name");
+    if (c.at("controller") != "paper") {
+      EXPECT_NE(c.at("trajectory_sha256"), paper) << c.at("name");
+    }
   }
 }
 

@@ -50,6 +50,10 @@ void AgentParams::validate() const {
   }
   require_non_negative("K_p", K_p, "1/s");
   require_non_negative("lambda_in", lambda_in, "robots/(m^2 s)");
+  if (!(std::isfinite(missed_onsets) && missed_onsets >= 0.0 && missed_onsets < 1.0)) {
+    reject("missed_onsets", missed_onsets, "in [0, 1)", "chance per onset");
+  }
+  require_non_negative("false_onsets", false_onsets, "1/s");
   if (!is_controller_name(controller)) {
     std::string valid;
     for (const std::string& name : controller_names()) {

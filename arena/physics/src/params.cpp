@@ -174,6 +174,9 @@ void WorldParams::validate() const {
   require_non_negative("arena.tumble_rate", tumble_rate, "1/s");
   require_positive("arena.unblock_time", unblock_time, "s");
   require_non_negative("arena.lambda_in", lambda_in, "robots/(m^2 s)");
+  require(std::isfinite(missed_onsets) && missed_onsets >= 0.0 && missed_onsets <= 1.0, "arena.missed_onsets",
+          missed_onsets, "must be in [0, 1] (a probability per onset)");
+  require_non_negative("arena.false_onsets", false_onsets, "1/s");
 
   // Domain.
   const double inset = walk_inset(*this);

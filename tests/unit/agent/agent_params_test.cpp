@@ -67,7 +67,12 @@ TEST(AgentParams, NamesTheFieldAndTheValueOfEveryOutOfRangeNumber) {
                         {"K_p", &AgentParams::K_p, nan},
                         {"K_p", &AgentParams::K_p, inf},
                         {"lambda_in", &AgentParams::lambda_in, -1.0},
-                        {"lambda_in", &AgentParams::lambda_in, nan}};
+                        {"lambda_in", &AgentParams::lambda_in, nan},
+                        {"missed_onsets", &AgentParams::missed_onsets, 1.0},
+                        {"missed_onsets", &AgentParams::missed_onsets, -0.1},
+                        {"missed_onsets", &AgentParams::missed_onsets, nan},
+                        {"false_onsets", &AgentParams::false_onsets, -0.5},
+                        {"false_onsets", &AgentParams::false_onsets, inf}};
   for (const Case& c : cases) {
     AgentParams p;
     p.*c.member = c.value;

@@ -145,6 +145,33 @@ TEST(ConfidentPartialDensity, CountsOverTheTimeInsideUntilAWholeWindowThenOverL)
                    lower_confidence_density(16, s.model, s.agent.L, 1.0));
 }
 
+TEST(ConfidentPartialDensity, CorrectsForTheSensorsKnownMissedAndFalseOnsets) {
+  // A sensor that keeps an onset with chance 1 − m and adds false ones at f reports a count of
+  // mean ((1 − m)cλ + f)·w: the estimate subtracts f·w from the lowered count and divides by
+  // (1 − m)c·w.
+  Step s;
+  s.agent.missed_onsets = 0.25;
+  s.agent.false_onsets = 0.02;
+  const double c = model::swept_rate(s.model);
+  const auto input = s.inside_for(160.0, 60.0, 20);
+  EXPECT_NEAR(confident_partial_density(input, 1.0), (20.0 - std::sqrt(20.0) - 0.02 * 60.0) / (0.75 * c * 60.0),
+              1e-12);
+  EXPECT_NEAR(confident_partial_density(input, 0.0), (20.0 - 0.02 * 60.0) / (0.75 * c * 60.0), 1e-12);
+  // A count the false onsets alone explain is no density at all.
+  EXPECT_EQ(confident_partial_density(s.inside_for(160.0, 60.0, 1), 0.0), 0.0);
+  // The rules act on the corrected estimate: 7 onsets in 60 s stay below λ* as a perfect
+  // sensor's count, and are above it once half of the onsets are known to be missed.
+  Step perfect;
+  Step half_missed;
+  half_missed.agent.missed_onsets = 0.5;
+  const auto seven = perfect.inside_for(160.0, 60.0, 7);
+  ASSERT_LT(confident_partial_density(seven, 1.0), s.lambda_star());
+  EXPECT_EQ(ConfidentProportionalController{}.retreat_probability(seven), 0.0);
+  const auto seven_half = half_missed.inside_for(160.0, 60.0, 7);
+  ASSERT_GT(confident_partial_density(seven_half, 1.0), s.lambda_star());
+  EXPECT_GT(ConfidentProportionalController{}.retreat_probability(seven_half), 0.0);
+}
+
 TEST(ConfidentProportionalController, IsThePapersRateWithoutInfluxOnTheConfidentPartialEstimate) {
   Step s;
   ConfidentProportionalController rule;

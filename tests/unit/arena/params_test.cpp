@@ -78,6 +78,9 @@ TEST(PhysicsParams, EachInvalidFieldIsRejectedWithItsKeyAndValue) {
       {"arena.tumble_rate = -0.1:", [](WorldParams& p) { p.tumble_rate = -0.1; }},
       {"arena.unblock_time = 0:", [](WorldParams& p) { p.unblock_time = 0; }},
       {"arena.lambda_in = -0.02:", [](WorldParams& p) { p.lambda_in = -0.02; }},
+      {"arena.missed_onsets = 1.5:", [](WorldParams& p) { p.missed_onsets = 1.5; }},
+      {"arena.missed_onsets = -0.1:", [](WorldParams& p) { p.missed_onsets = -0.1; }},
+      {"arena.false_onsets = -1:", [](WorldParams& p) { p.false_onsets = -1; }},
       {"arena.semi_axis_x = 0:", [](WorldParams& p) { p.semi_axis_x = 0; }},
       {"arena.semi_axis_y = 0.1:", [](WorldParams& p) { p.semi_axis_y = 0.1; }},  // too small
       {"arena.width = -3:",

@@ -17,12 +17,15 @@ namespace retreat::agent {
 double counted_span(const ControllerInput& input);
 
 /// The density the robot's own count supports with confidence: y lowered by @p z Poisson
-/// standard deviations over the span it was counted in,
+/// standard deviations over the span it was counted in, corrected for the sensor's known
+/// noise (agent.missed_onsets m, agent.false_onsets f: a sensor that keeps each onset with
+/// chance 1 − m and adds spurious ones at rate f reports a Poisson count of mean
+/// ((1 − m)·c·λ + f)·w):
 ///
-///     λ_low = max(0, y − z·√y) / (4δ(4/π)v · w),   w = counted_span(input)
+///     λ_low = max(0, y − z·√y − f·w) / ((1 − m)·c · w),   w = counted_span(input),  c = 4δ(4/π)v
 ///
 /// [robots/m²]. z = 0 is the maximum-likelihood estimate over the partial window (the paper's
-/// λ̂ once w = L).
+/// λ̂ once w = L, with a perfect sensor).
 /// @throws std::invalid_argument if @p z is not finite and >= 0.
 double confident_partial_density(const ControllerInput& input, double z);
 

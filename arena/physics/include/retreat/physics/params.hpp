@@ -86,6 +86,8 @@ struct WorldParams {
   double tumble_rate = 0.02;          ///< random-walk re-orientation rate [1/s] (runs ≫ 2δ)
   double unblock_time = 2.0;       ///< a walker held below v/2 this long re-orients [s] (≈ 2δ/v)
   bool record_encounters = false;  ///< keep per-pair and per-robot contact intervals
+  double missed_onsets = 0.0;  ///< each robot's sensor misses each encounter onset with this chance [-]
+  double false_onsets = 0.0;   ///< each robot's sensor reports spurious onsets at this rate inside D [1/s]
   std::uint64_t seed = 1;          ///< scenario seed; every random stream derives from it
 
   // --- model: the paper's numbers the physics needs ---------------------------------------------
@@ -101,7 +103,8 @@ struct WorldParams {
   /// an endless queue shows ≥ 1 robot. Physical world only: D_s < 2δ (or no encounter can
   /// begin), v ≤ l·max_turn_rate (the walk needs q fully actuated at speed v),
   /// max_speed·physics_dt ≤ δ/4, max_turn_rate·physics_dt ≤ 0.5, boundary_gain·physics_dt ≤ 1.
-  /// Kinetic world only: ρ > 0.
+  /// Kinetic world only: ρ > 0. Sensing noise (both worlds): missed_onsets in [0, 1],
+  /// false_onsets finite and >= 0.
   /// @throws std::invalid_argument with one line naming the first bad key, its value and the
   ///         allowed range, e.g. `arena.physics_dt = 0.007: must divide arena.tick_dt (0.03 s) into
   ///         a whole number of steps`.
@@ -133,6 +136,8 @@ struct WorldParams {
     a("tumble_rate", tumble_rate);
     a("unblock_time", unblock_time);
     a("record_encounters", record_encounters);
+    a("missed_onsets", missed_onsets);
+    a("false_onsets", false_onsets);
   }
 };
 

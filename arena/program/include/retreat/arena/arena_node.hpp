@@ -11,6 +11,7 @@
 #include <optional>
 #include <vector>
 
+#include "retreat/physics/sensor_noise.hpp"
 #include "retreat/physics/world.hpp"
 #include "retreat/scenario/params.hpp"
 #include "retreat/transport/transport.hpp"
@@ -99,6 +100,7 @@ class ArenaNode {
   transport::Transport& transport_;
   RunRecorder* recorder_;
   std::unique_ptr<physics::World> world_;
+  physics::SensorNoise sensor_;  ///< each robot's sensor (arena.missed_onsets, arena.false_onsets)
   std::vector<std::unique_ptr<Robot>> robots_;  ///< by robot id (ids are 0 .. robot_count()−1)
   std::vector<wire::Decision> taken_;           ///< take_decisions' buffer, kept between calls
   transport::Writer<wire::ArenaTelemetry> telemetry_;

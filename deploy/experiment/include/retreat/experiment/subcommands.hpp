@@ -52,4 +52,12 @@ struct ControllersOptions {
 };
 int run_controllers(const ControllersOptions& options);
 
+/// `noise`: every registered rule with imperfect proximity sensors (missed and false onsets).
+struct NoiseOptions {
+  Common common;
+  std::optional<SeedRange> seeds;  ///< default 1:100 (quick 1:2, and the endless queue 300 s)
+};
+
+int run_noise(const NoiseOptions& options);
+
 }  // namespace retreat::experiment

@@ -21,6 +21,7 @@ enum class Stream : std::uint64_t {
   robot_motion = 2,    ///< the arena's random walk for one robot
   world = 3,           ///< the arena's world-level draws (pick-up/drop-off points, influx)
   kinetic = 4,         ///< the kinetic world's encounter process for one robot
+  sensor = 5,          ///< the arena's sensing noise for one robot (missed and false onsets)
 };
 
 /// Seed for one (scenario seed, robot id, stream) triple. Robot id -1 means "no robot".
