@@ -83,6 +83,27 @@
     }, data, box);
   }
 
+  // A heat map: a table whose cells are coloured from green (low) through yellow to red (high).
+  function heat(value, low, high) {
+    if (typeof value !== 'number') return '#e2e8f0';
+    const t = Math.min(1, Math.max(0, (value - low) / (high - low)));
+    const hue = 120 * (1 - t);  // 120 green, 60 yellow, 0 red
+    return `hsl(${hue.toFixed(0)}, 70%, 78%)`;
+  }
+
+  function heatmap(f, box) {
+    const h = f.heatmap;
+    const head = el('thead', {}, el('tr', {}, el('th', {}, f.y_label + ' / ' + f.x_label),
+      ...h.columns.map((c) => el('th', {}, c))));
+    const body = el('tbody', {}, ...h.rows.map((r, i) => el('tr', {}, el('th', {}, r),
+      ...h.values[i].map((v, j) => {
+        const text = h.text ? h.text[i][j] : (v === null ? '–' : String(v));
+        const cell = el('td', { class: 'heat', style: `background:${heat(v, h.low, h.high)}` }, text);
+        return cell;
+      }))));
+    box.append(el('table', { class: 'summary heatmap' }, head, body));
+  }
+
   function table(t) {
     const head = el('thead', {}, el('tr', {}, ...t.columns.map((c) => el('th', {}, String(c)))));
     const body = el('tbody', {}, ...t.rows.map((r) => el('tr', {}, ...r.map((c) => el('td', {}, c === null ? '–' : String(c))))));
@@ -106,7 +127,8 @@
       if (f.note) sec.append(el('p', { class: 'note' }, f.note));
       sec.append(box);
       main.append(sec);
-      draw(f, box);
+      if (f.heatmap) heatmap(f, box);
+      else draw(f, box);
     }
     if (!only) for (const t of s.tables || []) main.append(table(t));
   }

@@ -48,7 +48,7 @@ void add_common(CLI::App* sub, Common& c) {
   sub->add_option("--launcher", c.launcher, "retreat-launch to run (default: beside this program)");
 }
 
-/// --jobs on a subcommand whose in-process seeds retreat-launch runs (robotarium, controllers, noise).
+/// --jobs on a subcommand whose in-process seeds retreat-launch runs (robotarium, controllers, noise, sweep).
 void add_jobs(CLI::App* sub, Common& c) {
   sub->add_option("--jobs", c.jobs,
                   "in-process seeds run at once, 1..256, passed to retreat-launch --jobs (default: "
@@ -250,6 +250,26 @@ struct NoiseLine {
   }
 };
 
+/// `sweep`: the options, then their check.
+struct SweepLine {
+  SweepOptions o;
+  std::string seeds;
+  CLI::App* sub = nullptr;
+
+  void add(CLI::App& app) {
+    sub = app.add_subcommand("sweep", "every registered controller on a grid of scenarios");
+    add_common(sub, o.common);
+    add_jobs(sub, o.common);
+    sub->add_option("--seeds", seeds, "seeds A:B (default 1:100, quick 1:2)");
+  }
+  SweepOptions finish() {
+    finish_common(o.common, "sweep");
+    if (!seeds.empty()) o.seeds = parse_seed_range(seeds, "--seeds");
+    require_launcher(o.common);
+    return o;
+  }
+};
+
 }  // namespace
 
 std::variant<ExperimentCommand, int> parse_command_line(int argc, char** argv) {
@@ -261,21 +281,23 @@ std::variant<ExperimentCommand, int> parse_command_line(int argc, char** argv) {
   RobotariumLine robotarium;
   ControllersLine controllers;
   NoiseLine noise;
+  SweepLine sweep;
   encounters.add(app);
   throughput.add(app);
   robotarium.add(app);
   controllers.add(app);
   noise.add(app);
+  sweep.add(app);
   // CLI11 would say only "A subcommand is required" for a misspelt one: name it.
   const auto known = [&](const std::string& word) {
-    for (const auto* sub : {encounters.sub, throughput.sub, robotarium.sub, controllers.sub, noise.sub}) {
+    for (const auto* sub : {encounters.sub, throughput.sub, robotarium.sub, controllers.sub, noise.sub, sweep.sub}) {
       if (sub->get_name() == word) return true;
     }
     return false;
   };
   if (argc > 1 && argv[1][0] != '-' && !known(argv[1])) {
     scenario::report_error(program, std::string("'") + argv[1] +
-                                        "': no such subcommand (encounters, throughput, robotarium, controllers or noise)");
+                                        "': no such subcommand (encounters, throughput, robotarium, controllers, noise or sweep)");
     return 2;
   }
   if (const auto code = scenario::parse_command_line(app, argc, argv, program)) return *code;
@@ -284,6 +306,7 @@ std::variant<ExperimentCommand, int> parse_command_line(int argc, char** argv) {
     if (throughput.sub->parsed()) return ExperimentCommand{throughput.finish()};
     if (robotarium.sub->parsed()) return ExperimentCommand{robotarium.finish()};
     if (noise.sub->parsed()) return ExperimentCommand{noise.finish()};
+    if (sweep.sub->parsed()) return ExperimentCommand{sweep.finish()};
     return ExperimentCommand{controllers.finish()};
   });
 }

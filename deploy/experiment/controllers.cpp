@@ -31,18 +31,6 @@ namespace {
 /// The endless queue's run in the reduced size (steady-influx.yaml runs an hour) [s].
 constexpr double quick_endless = 1200.0;
 
-/// J of the pooled seeds: C / (mean output) + mean λ̄ (finite even when a seed delivered nothing).
-double pooled_J(const Ensemble& e, double C, bool last_half) {
-  double output = 0.0, lambda = 0.0;
-  for (const auto& r : e.runs) {
-    const auto& s = last_half ? r.last_half : r.whole;
-    output += s.output;
-    lambda += s.lambda;
-  }
-  const double n = static_cast<double>(e.runs.size());
-  return output > 0.0 ? C / (output / n) + lambda / n : std::numeric_limits<double>::infinity();
-}
-
 std::string pm(const Moments& m, int digits) {
   return std::isfinite(m.mean) ? fixed(m.mean, digits) + " ± " + fixed(m.sd, digits) : "∞ (a seed without deliveries)";
 }

@@ -74,4 +74,15 @@ void write_population_rows(CsvWriter& csv, const Ensemble& e) {
   }
 }
 
+double pooled_J(const Ensemble& e, double C, bool last_half) {
+  double output = 0.0, lambda = 0.0;
+  for (const auto& r : e.runs) {
+    const auto& s = last_half ? r.last_half : r.whole;
+    output += s.output;
+    lambda += s.lambda;
+  }
+  const double n = static_cast<double>(e.runs.size());
+  return output > 0.0 ? C / (output / n) + lambda / n : std::numeric_limits<double>::infinity();
+}
+
 }  // namespace retreat::experiment

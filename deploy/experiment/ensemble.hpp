@@ -29,6 +29,10 @@ struct Ensemble {
 Ensemble run_ensemble(const std::string& launcher, const std::string& name, const std::string& label,
                       const LaunchRequest& request, double C);
 
+/// J of the seeds pooled, over the whole run or its last half: C over the mean output, plus the
+/// mean λ̄ (MODEL.md §4); +∞ when no seed delivered anything in the span.
+double pooled_J(const Ensemble& e, double C, bool last_half);
+
 /// Statistics over seeds of one per-seed number.
 Moments over_seeds(const Ensemble& e, double (*value)(const SeedRun&));
 

@@ -7,6 +7,7 @@
 //                queue, kinetic world), run by retreat-launch
 //   controllers  every registered controller against paper on the same seeds (J of MODEL.md §4)
 //   noise        every registered controller with missed and false onsets (sensing noise)
+//   sweep        every registered controller on a grid of 18 scenarios
 // Reads the shipped scenarios (--scenarios DIR); runs retreat-launch (beside this program, or
 // --launcher) as a child process. No DDS of its own: the launcher and its children use DDS in
 // `robotarium`'s process set-up only.
@@ -49,6 +50,7 @@ int run_reported(const ExperimentCommand& command) {
           if constexpr (std::is_same_v<Options, RobotariumOptions>) return run_robotarium(o);
           if constexpr (std::is_same_v<Options, ControllersOptions>) return run_controllers(o);
           if constexpr (std::is_same_v<Options, NoiseOptions>) return run_noise(o);
+          if constexpr (std::is_same_v<Options, SweepOptions>) return run_sweep(o);
         },
         command.options);
   } catch (const Stopped& s) {

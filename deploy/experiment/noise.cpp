@@ -16,7 +16,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <limits>
 
 #include "ensemble.hpp"
 #include "page.hpp"
@@ -62,16 +61,6 @@ struct Row {
   double J = 0.0, optimum = 0.0;
 };
 
-/// J over the last half of the seeds pooled: C over the mean output, plus the mean λ̄.
-double pooled_last_half_J(const Ensemble& e, double C) {
-  double output = 0.0, lambda = 0.0;
-  for (const auto& r : e.runs) {
-    output += r.last_half.output;
-    lambda += r.last_half.lambda;
-  }
-  const double n = static_cast<double>(e.runs.size());
-  return output > 0.0 ? C / (output / n) + lambda / n : std::numeric_limits<double>::infinity();
-}
 
 /// Each seed's telemetry.csv, once the ensemble has been read from it.
 void drop_telemetry(const Ensemble& e) {
@@ -113,7 +102,7 @@ int run_noise(const NoiseOptions& o) {
           const auto e = run_ensemble(o.common.launcher, c.name + "-" + noise.name + "-" + label, label, r, s.model.C);
           Row row{c.name, noise.name, rule, corrected, noise.missed, noise.false_rate,
                   over_seeds(e, [](const SeedRun& x) { return x.last_half.mean_population; }),
-                  pooled_last_half_J(e, s.model.C), e.runs.front().optimal_population};
+                  pooled_J(e, s.model.C, true), e.runs.front().optimal_population};
           drop_telemetry(e);
           std::fprintf(stderr, "retreat-experiment: noise: %s, %s, %s: last half %.2f ± %.2f (optimum %.2f)\n",
                        c.name.c_str(), noise.name.c_str(), label.c_str(), row.population.mean, row.population.sd,

@@ -117,7 +117,9 @@ json figure(const json& page, const std::string& id) {
   for (const auto& s : page["sections"]) {
     for (const auto& f : s.value("figures", json::array())) {
       if (f["id"] == id) {
-        for (const auto& series : f["series"]) EXPECT_FALSE(series["x"].empty()) << id << ": " << series["label"];
+        for (const auto& series : f.value("series", json::array())) {
+          EXPECT_FALSE(series["x"].empty()) << id << ": " << series["label"];
+        }
         return f;
       }
     }
@@ -320,6 +322,41 @@ TEST(Experiment, NoiseQuickRunGivesEveryRuleOnEverySensorAndTheCorrectedRules) {
   const auto seed_dir = dir + "/out/runs/finite/perfect/paper/seed_1";
   EXPECT_TRUE(fs::exists(seed_dir + "/summary.json"));
   EXPECT_FALSE(fs::exists(seed_dir + "/telemetry.csv"));
+}
+
+TEST(Experiment, SweepQuickRunPutsEveryRuleOnEveryCellWithItsHeatMaps) {
+  const auto dir = fresh_dir("sweep");
+  const auto [code, output] = run(dir, {"sweep", "--quick", "--seeds", "1:1", "--out", dir + "/out"});
+  ASSERT_EQ(code, 0) << output;
+  const auto names = retreat::agent::controller_names();
+  const auto results = read_csv(dir + "/out/results.csv");
+  expect_columns(results, {"cell", "queue", "controller", "seeds", "optimum", "mean_population_last_half",
+                           "sd_population_last_half", "relative_error", "J_last_half_pooled", "J_relative_to_paper",
+                           "reachable"});
+  ASSERT_EQ(results.rows.size() % names.size(), 0u);
+  const std::size_t cells = results.rows.size() / names.size();
+  EXPECT_GE(cells, 16u);
+  expect_finite(results, {"seeds", "optimum", "mean_population_last_half", "relative_error"}, "results.csv");
+  std::set<std::string> optima;
+  for (std::size_t i = 0; i < results.rows.size(); ++i) {
+    optima.insert(results.rows[i][results.column("optimum")]);
+    const double error = results.number(i, "relative_error");
+    const double mean = results.number(i, "mean_population_last_half");
+    const double optimum = results.number(i, "optimum");
+    EXPECT_NEAR(error, std::abs(mean - optimum) / optimum, 1e-5) << i;
+    if (results.rows[i][results.column("controller")] == "paper" &&
+        !results.rows[i][results.column("J_relative_to_paper")].empty()) {
+      EXPECT_NEAR(results.number(i, "J_relative_to_paper"), 1.0, 1e-12) << i;
+    }
+  }
+  EXPECT_GE(optima.size(), 5u) << "the cells cover several sizes of D and λ*";
+  const auto page = figures_of(dir + "/out/report.html");
+  for (const char* id : {"error", "J-relative"}) {
+    const auto fig = figure(page, id);
+    const auto& map = fig["heatmap"];
+    EXPECT_EQ(map["rows"].size(), cells) << id;
+    EXPECT_EQ(map["columns"].size(), names.size()) << id;
+  }
 }
 
 // Bad input: one line on stderr naming the value, exit code 2, nothing run.

@@ -60,6 +60,34 @@ TEST(FiguresPage, NamesTheFirstBadField) {
   EXPECT_EQ(error_of(bad_row), "figures: sections[0].tables[0].rows[0]: must have one cell per column");
 }
 
+json heatmap_page(const json& heatmap) {
+  return {{"title", "t"},
+          {"sections", {{{"heading", "h"},
+                         {"figures", json::array({{{"id", "m"}, {"title", "M"}, {"x_label", "x"}, {"y_label", "y"},
+                                                   {"heatmap", heatmap}}})}}}}};
+}
+
+TEST(FiguresPage, AcceptsAHeatMapAndNamesItsFirstBadField) {
+  const json good = {{"rows", {"a", "b"}}, {"columns", {"x"}}, {"values", {{0.1}, {nullptr}}},
+                     {"text", {{"one"}, {"two"}}}, {"low", 0}, {"high", 1}};
+  EXPECT_EQ(error_of(heatmap_page(good)), "");
+  auto no_text = good;
+  no_text.erase("text");
+  EXPECT_EQ(error_of(heatmap_page(no_text)), "");
+  auto short_row = good;
+  short_row["values"][1] = json::array();
+  EXPECT_EQ(error_of(heatmap_page(short_row)), "figures: sections[0].figures[0].heatmap.values[1]: must have one cell per column");
+  auto reversed = good;
+  reversed["low"] = 2;
+  EXPECT_EQ(error_of(heatmap_page(reversed)), "figures: sections[0].figures[0].heatmap.low: must be below high");
+  auto text_number = good;
+  text_number["text"][0][0] = 3;
+  EXPECT_EQ(error_of(heatmap_page(text_number)), "figures: sections[0].figures[0].heatmap.text[0]: cells must be strings");
+  auto both = heatmap_page(good);
+  both["sections"][0]["figures"][0]["series"] = json::array({line({1}, {1})});
+  EXPECT_EQ(error_of(both), "figures: sections[0].figures[0]: has both series and heatmap");
+}
+
 TEST(FiguresPage, CarriesItsDataWithEverythingInlined) {
   const auto page = page_with(json::array({line({0, 1}, {2, 3})}));
   const auto html = retreat::report::render_figures_page(page);

@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "bridge_support.hpp"
+#include "retreat/report/figures.hpp"
 #include "retreat/transport/factory.hpp"
 
 namespace retreat {
@@ -126,6 +127,46 @@ TEST(BridgeSwarm, ABridgeStartedAfterTheArenaShowsTheCurrentPopulation) {
     EXPECT_EQ(inside, now->inside);
   }
   EXPECT_EQ(b.process->stop(), 0) << testing::read_file(b.log);
+}
+
+// The figures page's heat map (retreat-experiment sweep draws its results with it), in Chromium:
+// one coloured cell per value, green at `low`, red at `high`, grey for a missing value.
+TEST(BridgeBrowser, TheFiguresPageDrawsAHeatMapAsColouredCells) {
+  if (!tb::Browser::available()) GTEST_SKIP() << "no chromium (deploy/install-deps.sh installs it)";
+  const std::string dir = ::testing::TempDir() + "/figures_heatmap";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const json page = {
+      {"title", "heat"},
+      {"sections",
+       {{{"heading", "h"},
+         {"figures",
+          {{{"id", "map"}, {"title", "Map"}, {"x_label", "rule"}, {"y_label", "cell"},
+            {"heatmap", {{"rows", {"a", "b"}}, {"columns", {"x", "y", "z"}},
+                         {"values", {{0.0, 0.25, 0.5}, {1.0, nullptr, -3.0}}},
+                         {"text", {{"zero", "quarter", "half"}, {"beyond", "none", "below"}}},
+                         {"low", 0.0}, {"high", 0.5}}}}}}}}}};
+  retreat::report::write_figures_page(page, dir + "/report.html");
+  tb::Browser browser(dir + "/chromium-profile", 1000, 800, dir + "/chromium.log");
+  browser.navigate("file://" + dir + "/report.html");
+  const auto cells = browser.evaluate(
+      "Array.from(document.querySelectorAll('#figure-map td.heat')).map((c) => "
+      "[c.textContent, getComputedStyle(c).backgroundColor])");
+  ASSERT_TRUE(cells.is_array()) << cells.dump();
+  ASSERT_EQ(cells.size(), 6u) << cells.dump();
+  const auto colour = [&](std::size_t i) { return cells[i][1].get<std::string>(); };
+  EXPECT_EQ(cells[0][0], "zero");
+  EXPECT_EQ(cells[4][0], "none");
+  // hsl(120, 70%, 78%) is rgb(160, 238, 160); hsl(0, 70%, 78%) is rgb(238, 160, 160).
+  EXPECT_EQ(colour(0), "rgb(160, 238, 160)");
+  EXPECT_EQ(colour(2), "rgb(238, 160, 160)");
+  EXPECT_EQ(colour(3), colour(2)) << "beyond high: the end colour";
+  EXPECT_EQ(colour(5), colour(0)) << "below low: the end colour";
+  EXPECT_EQ(colour(4), "rgb(226, 232, 240)") << "a missing value is grey";
+  EXPECT_NE(colour(1), colour(0));
+  EXPECT_NE(colour(1), colour(2));
+  EXPECT_TRUE(browser.errors().empty()) << browser.errors().front();
+  fs::remove_all(dir);
 }
 
 TEST(BridgeBrowser, ChromiumShowsTheLiveSwarmAndTheReport) {

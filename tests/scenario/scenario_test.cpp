@@ -75,7 +75,7 @@ void expect_error(const std::string& yaml, const std::vector<std::string>& overr
 }
 
 TEST(ScenarioLoader, AnUnknownKeyIsNamedWithTheKeysAllowedInItsSection) {
-  expect_error("agent: {window: 90}\n", {}, "unknown key 'agent.window' in <text> (allowed in agent: L, dt, K_p, lambda_in, controller)");
+  expect_error("agent: {window: 90}\n", {}, "unknown key 'agent.window' in <text> (allowed in agent: L, dt, K_p, lambda_in, controller, missed_onsets, false_onsets)");
   expect_error("agnet: {L: 90}\n", {}, "unknown key 'agnet'");
   expect_error("", {"model.gamma=3"}, "unknown key 'model.gamma' in --set");
 }
@@ -110,10 +110,10 @@ TEST(ScenarioLoader, ANameOutsideAnEnumsTableListsTheNames) {
 
 TEST(ScenarioKeys, TheKeysAreTheSerializedMembersInFileOrder) {
   const auto keys = known_keys();
-  ASSERT_EQ(keys.size(), 48u);
+  ASSERT_EQ(keys.size(), 52u);  // agent.missed_onsets, agent.false_onsets, arena.missed_onsets, arena.false_onsets (issue 14)
   EXPECT_EQ(keys.front(), "name");
   EXPECT_EQ(keys[2], "model.lambda_p");
-  EXPECT_EQ(keys[13], "arena.encounter_model");
+  EXPECT_EQ(keys[15], "arena.encounter_model");
   EXPECT_EQ(keys.back(), "bridge.http");
 }
 
@@ -140,7 +140,7 @@ TEST(ScenarioJson, JsonIsValidatedAsYamlIs) {
     }
   };
   expect_json_error(R"({"agent": {"window": 90}})",
-                    "unknown key 'agent.window' in <json> (allowed in agent: L, dt, K_p, lambda_in, controller)");
+                    "unknown key 'agent.window' in <json> (allowed in agent: L, dt, K_p, lambda_in, controller, missed_onsets, false_onsets)");
   expect_json_error(R"({"agnet": {"L": 90}})", "unknown key 'agnet'");
   expect_json_error(R"({"model": {"delta": "abc"}})", "model.delta = 'abc': must be a number");
   expect_json_error(R"({"arena": {"robots_inside": 2.5}})", "arena.robots_inside = '2.5': must be a whole number >= 0");

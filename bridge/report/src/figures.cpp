@@ -56,6 +56,42 @@ void validate_series(const json& s, const std::string& where) {
   }
 }
 
+/// An array of strings; returns its length.
+std::size_t strings(const json& j, const std::string& key, const std::string& where) {
+  if (!j.contains(key) || !j[key].is_array()) bad(where + "." + key, "missing (an array of strings)");
+  for (std::size_t i = 0; i < j[key].size(); ++i) {
+    if (!j[key][i].is_string()) bad(where + "." + key + "[" + std::to_string(i) + "]", "must be a string");
+  }
+  return j[key].size();
+}
+
+void validate_heatmap(const json& h, const std::string& where) {
+  if (!h.is_object()) bad(where, "must be an object");
+  const auto rows = strings(h, "rows", where);
+  const auto columns = strings(h, "columns", where);
+  if (rows == 0 || columns == 0) bad(where, "needs at least one row and one column");
+  for (const char* key : {"low", "high"}) {
+    if (!h.contains(key) || !h[key].is_number()) bad(where + "." + key, "missing (a number)");
+  }
+  if (!(h["low"].get<double>() < h["high"].get<double>())) bad(where + ".low", "must be below high");
+  for (const char* key : {"values", "text"}) {
+    if (!h.contains(key)) {
+      if (std::string(key) == "text") continue;
+      bad(where + "." + key, "missing (one array per row)");
+    }
+    if (!h[key].is_array() || h[key].size() != rows) bad(where + "." + key, "must have one array per row");
+    for (std::size_t r = 0; r < rows; ++r) {
+      const std::string row_where = where + "." + key + "[" + std::to_string(r) + "]";
+      const auto& row = h[key][r];
+      if (!row.is_array() || row.size() != columns) bad(row_where, "must have one cell per column");
+      for (const auto& cell : row) {
+        const bool ok = std::string(key) == "text" ? cell.is_string() : (cell.is_number() || cell.is_null());
+        if (!ok) bad(row_where, std::string(key) == "text" ? "cells must be strings" : "cells must be numbers or null");
+      }
+    }
+  }
+}
+
 void validate_figure(const json& f, const std::string& where, std::set<std::string>& ids) {
   if (!f.is_object()) bad(where, "must be an object");
   require_string(f, "id", where, false);
@@ -72,6 +108,11 @@ void validate_figure(const json& f, const std::string& where, std::set<std::stri
   }
   for (const char* key : {"x_min", "x_max", "y_min", "y_max"}) {
     if (f.contains(key) && !f[key].is_number()) bad(where + "." + key, "must be a number");
+  }
+  if (f.contains("heatmap")) {
+    validate_heatmap(f["heatmap"], where + ".heatmap");
+    if (f.contains("series")) bad(where, "has both series and heatmap");
+    return;
   }
   if (!f.contains("series") || !f["series"].is_array() || f["series"].empty()) {
     bad(where + ".series", "missing (a non-empty array)");

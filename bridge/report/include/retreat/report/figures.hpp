@@ -16,6 +16,12 @@
 ///          "low": [...], "high": [...] (band: instead of y), "dash": false, "color": "#rrggbb"
 ///          (optional)}; x values need not be shared between series (the page merges them),
 ///          null in y leaves a gap.
+/// A figure may instead be a heat map, drawn as a table of coloured cells: "heatmap" in place of
+/// "series": {"rows": ["row label", ...], "columns": ["column label", ...],
+///            "values": [[number or null, ...], ...] (one row per row label, one value per column),
+///            "text": [["cell text", ...], ...] (optional, same shape; default: the value),
+///            "low": number, "high": number (values from low (green) to high (red); beyond, the end
+///            colours; null: grey)}; x_label names the columns and y_label the rows.
 /// table: {"title", "columns": ["...", ...], "rows": [[cell, ...], ...]}
 ///
 /// Opening the page with `#only=<id>` shows that one figure alone (for screenshots).

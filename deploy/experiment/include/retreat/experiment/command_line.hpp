@@ -13,7 +13,8 @@ namespace retreat::experiment {
 /// One subcommand and its options, every default resolved (--out, --scenarios, --launcher) and
 /// every value checked.
 struct ExperimentCommand {
-  std::variant<EncountersOptions, ThroughputOptions, RobotariumOptions, ControllersOptions, NoiseOptions> options;
+  std::variant<EncountersOptions, ThroughputOptions, RobotariumOptions, ControllersOptions, NoiseOptions, SweepOptions>
+      options;
 };
 
 /// Parses `retreat-experiment`'s arguments. Returns the subcommand, or the exit code to end with

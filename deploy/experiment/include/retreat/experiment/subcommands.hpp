@@ -60,4 +60,12 @@ struct NoiseOptions {
 
 int run_noise(const NoiseOptions& options);
 
+/// `sweep`: every registered rule on a grid of scenarios around the shipped ones.
+struct SweepOptions {
+  Common common;
+  std::optional<SeedRange> seeds;  ///< default 1:100 (quick 1:2, and every run 300 s)
+};
+
+int run_sweep(const SweepOptions& options);
+
 }  // namespace retreat::experiment
