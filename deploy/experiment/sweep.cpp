@@ -157,7 +157,7 @@ int run_sweep(const SweepOptions& o) {
       const double error = std::abs(x.mean - x.optimum) / x.optimum;
       const double relative_J = x.J / results[i].front().J;
       ev.push_back(round6(error));
-      const std::string cell_text = fixed(x.mean, 2) + " (" + fixed(100.0 * error, 0) + " %)";
+      const std::string cell_text = fixed(x.mean, 2) + "\u00a0(" + fixed(100.0 * error, 0) + "\u00a0%)";  // no wrap
       et.push_back(cell_text);
       jv.push_back(finite_or_null(round6(relative_J)));
       jt.push_back(std::isfinite(relative_J) ? fixed(relative_J, 3) : std::string("–"));
