@@ -210,60 +210,28 @@ struct RobotariumLine {
   }
 };
 
-/// `controllers`: the options, then their check.
-struct ControllersLine {
-  ControllersOptions o;
+/// A subcommand whose only own option is --seeds (controllers, noise, sweep): the options, then
+/// their check. `Options` has `common` and `seeds`.
+template <typename Options>
+struct SeedsLine {
+  SeedsLine(const char* name_, const char* description_, const char* seeds_help_)
+      : name(name_), description(description_), seeds_help(seeds_help_) {}
+
+  const char* name;
+  const char* description;
+  const char* seeds_help;
+  Options o;
   std::string seeds;
   CLI::App* sub = nullptr;
 
   void add(CLI::App& app) {
-    sub = app.add_subcommand("controllers", "every registered controller against paper on the same seeds");
+    sub = app.add_subcommand(name, description);
     add_common(sub, o.common);
     add_jobs(sub, o.common);
-    sub->add_option("--seeds", seeds, "seeds A:B (default 1:100, quick 1:3)");
+    sub->add_option("--seeds", seeds, seeds_help);
   }
-  ControllersOptions finish() {
-    finish_common(o.common, "controllers");
-    if (!seeds.empty()) o.seeds = parse_seed_range(seeds, "--seeds");
-    require_launcher(o.common);
-    return o;
-  }
-};
-
-/// `noise`: the options, then their check.
-struct NoiseLine {
-  NoiseOptions o;
-  std::string seeds;
-  CLI::App* sub = nullptr;
-
-  void add(CLI::App& app) {
-    sub = app.add_subcommand("noise", "every registered controller with missed and false onsets");
-    add_common(sub, o.common);
-    add_jobs(sub, o.common);
-    sub->add_option("--seeds", seeds, "seeds A:B (default 1:100, quick 1:2)");
-  }
-  NoiseOptions finish() {
-    finish_common(o.common, "noise");
-    if (!seeds.empty()) o.seeds = parse_seed_range(seeds, "--seeds");
-    require_launcher(o.common);
-    return o;
-  }
-};
-
-/// `sweep`: the options, then their check.
-struct SweepLine {
-  SweepOptions o;
-  std::string seeds;
-  CLI::App* sub = nullptr;
-
-  void add(CLI::App& app) {
-    sub = app.add_subcommand("sweep", "every registered controller on a grid of scenarios");
-    add_common(sub, o.common);
-    add_jobs(sub, o.common);
-    sub->add_option("--seeds", seeds, "seeds A:B (default 1:100, quick 1:2)");
-  }
-  SweepOptions finish() {
-    finish_common(o.common, "sweep");
+  Options finish() {
+    finish_common(o.common, name);
     if (!seeds.empty()) o.seeds = parse_seed_range(seeds, "--seeds");
     require_launcher(o.common);
     return o;
@@ -279,9 +247,12 @@ std::variant<ExperimentCommand, int> parse_command_line(int argc, char** argv) {
   EncountersLine encounters;
   ThroughputLine throughput;
   RobotariumLine robotarium;
-  ControllersLine controllers;
-  NoiseLine noise;
-  SweepLine sweep;
+  SeedsLine<ControllersOptions> controllers{"controllers", "every registered controller against paper on the same seeds",
+                                            "seeds A:B (default 1:100, quick 1:3)"};
+  SeedsLine<NoiseOptions> noise{"noise", "every registered controller with missed and false onsets",
+                                "seeds A:B (default 1:100, quick 1:2)"};
+  SeedsLine<SweepOptions> sweep{"sweep", "every registered controller on a grid of scenarios",
+                                "seeds A:B (default 1:100, quick 1:2)"};
   encounters.add(app);
   throughput.add(app);
   robotarium.add(app);

@@ -43,14 +43,21 @@ void make_run_dir(const std::string& dir) {
   if (ec) throw UsageError("--out '" + dir + "': cannot create it (" + ec.message() + ")");
 }
 
-void write_json(const std::string& path, const nlohmann::json& j) {
+void write_text(const std::string& path, const std::string& text) {
   const std::string tmp = path + ".tmp";
   {
     std::ofstream out(tmp);
-    out << sanitised(j).dump(2) << '\n';
+    out << text;
     if (!out.flush()) throw RunFailure("cannot write '" + tmp + "'");
   }
   std::filesystem::rename(tmp, path);
+}
+
+void write_json(const std::string& path, const nlohmann::json& j) { write_text(path, sanitised(j).dump(2) + '\n'); }
+
+std::vector<QueueCase> queue_cases(const Common& common) {
+  return {{"finite", "finite queue (robotarium-2019)", scenario_file(common, "robotarium-2019.yaml")},
+          {"endless", "endless queue (steady-influx)", scenario_file(common, "steady-influx.yaml")}};
 }
 
 CsvWriter::CsvWriter(const std::string& path, const std::vector<std::string>& header)

@@ -12,7 +12,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <limits>
 
 #include "ensemble.hpp"
@@ -34,10 +33,6 @@ constexpr double quick_endless = 1200.0;
 std::string pm(const Moments& m, int digits) {
   return std::isfinite(m.mean) ? fixed(m.mean, digits) + " ± " + fixed(m.sd, digits) : "∞ (a seed without deliveries)";
 }
-
-struct Case {
-  std::string name, label, file;
-};
 
 /// The run's tables, filled one ensemble (scenario, controller) at a time.
 struct Tables {
@@ -61,7 +56,7 @@ struct Tables {
 };
 
 /// Every controller on `c`, one ensemble each (paper first).
-std::vector<Ensemble> run_case(const ControllersOptions& o, const Case& c, const SeedRange& seeds,
+std::vector<Ensemble> run_case(const ControllersOptions& o, const QueueCase& c, const SeedRange& seeds,
                                const std::vector<std::string>& controllers, double C) {
   std::vector<Ensemble> ensembles;
   for (const auto& name : controllers) {
@@ -74,7 +69,7 @@ std::vector<Ensemble> run_case(const ControllersOptions& o, const Case& c, const
 }
 
 /// One ensemble's rows in every table, and its line on stderr.
-void tabulate(Tables& t, const Case& c, const Ensemble& e, const scenario::Scenario& s) {
+void tabulate(Tables& t, const QueueCase& c, const Ensemble& e, const scenario::Scenario& s) {
   const auto final_pop = over_seeds(e, [](const SeedRun& r) { return r.final_population; });
   const auto departed = over_seeds(e, [](const SeedRun& r) { return r.departed; });
   const auto deliveries = over_seeds(e, [](const SeedRun& r) { return r.whole.deliveries; });
@@ -122,7 +117,7 @@ void tabulate(Tables& t, const Case& c, const Ensemble& e, const scenario::Scena
 }
 
 /// The case's figures: the mean populations, and J per seed against paper (when any is finite).
-void add_case_figures(nlohmann::json& figures, const Case& c, const std::vector<Ensemble>& ensembles,
+void add_case_figures(nlohmann::json& figures, const QueueCase& c, const std::vector<Ensemble>& ensembles,
                       const SeedRange& seeds) {
   auto overlay = figure("population-" + c.name, "Mean population, " + c.label,
                         "Mean over " + std::to_string(seeds.count()) + " seeds (" + seeds.text() +
@@ -157,15 +152,12 @@ void add_case_figures(nlohmann::json& figures, const Case& c, const std::vector<
 
 /// results.md: a note, then the table.
 void write_markdown(const std::string& out, const SeedRange& seeds, const std::string& markdown) {
-  std::ofstream md(out + "/results.md");
-  md << "Seeds " << seeds.text() << ", in-process, physical world. J = C/output + λ̄ (MODEL.md §4) from the measured "
+  write_text(out + "/results.md", "Seeds " + seeds.text() + ", in-process, physical world. J = C/output + λ̄ (MODEL.md §4) from the measured "
         "population and deliveries; \"whole run\" and \"last half\" are J of the seeds pooled (mean output, mean λ̄) "
         "over [0, T] and [T/2, T]; \"per seed\" is the mean ± sd of each seed's J over [T/2, T]. Populations are "
         "robots inside D (mean ± sd over seeds); a run whose swarm emptied counts as empty until T. \"predicted "
         "(chain)\" is the population chain's mean over [T/2, T] (retreat::model::expected_population: each robot's "
-        "chance averaged over a Poisson window count at the model's encounter rate; — for a rule with memory).\n\n"
-     << markdown;
-  if (!md.flush()) throw RunFailure("cannot write '" + out + "/results.md'");
+        "chance averaged over a Poisson window count at the model's encounter rate; — for a rule with memory).\n\n" + markdown);
 }
 
 /// report.html.
@@ -196,9 +188,7 @@ void write_page(const std::string& out, const SeedRange& seeds, const std::vecto
 }  // namespace
 
 int run_controllers(const ControllersOptions& o) {
-  const std::vector<Case> cases = {
-      {"finite", "finite queue (robotarium-2019)", scenario_file(o.common, "robotarium-2019.yaml")},
-      {"endless", "endless queue (steady-influx)", scenario_file(o.common, "steady-influx.yaml")}};
+  const auto cases = queue_cases(o.common);
   const SeedRange seeds = o.seeds.value_or(o.common.quick ? SeedRange{1, 3} : SeedRange{1, 100});
   const auto controllers = agent::controller_names();
   make_run_dir(o.common.out_dir);

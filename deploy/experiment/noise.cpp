@@ -15,7 +15,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 
 #include "ensemble.hpp"
 #include "page.hpp"
@@ -70,12 +69,7 @@ void drop_telemetry(const Ensemble& e) {
 }  // namespace
 
 int run_noise(const NoiseOptions& o) {
-  struct Case {
-    std::string name, label, file;
-  };
-  const std::vector<Case> cases = {
-      {"finite", "finite queue (robotarium-2019)", scenario_file(o.common, "robotarium-2019.yaml")},
-      {"endless", "endless queue (steady-influx)", scenario_file(o.common, "steady-influx.yaml")}};
+  const auto cases = queue_cases(o.common);
   const SeedRange seeds = o.seeds.value_or(o.common.quick ? SeedRange{1, 2} : SeedRange{1, 100});
   const auto rules = agent::controller_names();
   make_run_dir(o.common.out_dir);
@@ -192,11 +186,7 @@ int run_noise(const NoiseOptions& o) {
       figures.push_back(f);
     }
   }
-  {
-    std::ofstream file(out + "/results.md");
-    file << md;
-    if (!file.flush()) throw RunFailure("cannot write '" + out + "/results.md'");
-  }
+  write_text(out + "/results.md", md);
   nlohmann::json page = {
       {"title", "retreat experiment: sensing noise"},
       {"subtitle", "Every registered rule with missed and false onsets, seeds " + seeds.text() + ", in-process, kinetic world"},

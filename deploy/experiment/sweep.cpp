@@ -11,7 +11,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 
 #include "ensemble.hpp"
 #include "page.hpp"
@@ -74,6 +73,8 @@ const std::vector<Cell>& cells() {
 
 struct Result {
   double mean = 0.0, sd = 0.0, optimum = 0.0, J = 0.0;
+  double error = 0.0;       ///< |mean − N*|/N*
+  double relative_J = 0.0;  ///< J over paper's in the same cell
 };
 
 
@@ -84,8 +85,7 @@ int run_sweep(const SweepOptions& o) {
   const auto rules = agent::controller_names();
   make_run_dir(o.common.out_dir);
   const std::string out = o.common.out_dir;
-  const std::string finite_file = scenario_file(o.common, "robotarium-2019.yaml");
-  const std::string endless_file = scenario_file(o.common, "steady-influx.yaml");
+  const auto queues = queue_cases(o.common);  // the finite queue, then the endless one
 
   // results[cell][rule]
   std::vector<std::vector<Result>> results;
@@ -94,7 +94,7 @@ int run_sweep(const SweepOptions& o) {
                                        "J_relative_to_paper", "reachable"});
   nlohmann::json json_rows = nlohmann::json::array();
   for (const auto& cell : cells()) {
-    const std::string file = cell.endless ? endless_file : finite_file;
+    const std::string& file = queues[cell.endless ? 1 : 0].file;
     auto overrides = cell.overrides;
     if (o.common.quick) overrides.push_back("run.duration=" + fixed(quick_duration, 0));
     // C for J: the scenario with the cell's overrides (C itself is never swept).
@@ -112,16 +112,16 @@ int run_sweep(const SweepOptions& o) {
                    cell.name.c_str(), rule.c_str(), population.mean, population.sd, row.back().optimum);
     }
     for (std::size_t k = 0; k < rules.size(); ++k) {
-      const auto& x = row[k];
-      const double error = std::abs(x.mean - x.optimum) / x.optimum;
-      const double relative_J = x.J / row.front().J;  // rules[0] is paper
-      csv.row({cell.name, cell.endless ? "endless" : "finite", rules[k], seeds.count(), x.optimum, x.mean, x.sd, error,
-               x.J, relative_J, cell.unreachable.empty() ? 1 : 0});
+      auto& x = row[k];
+      x.error = std::abs(x.mean - x.optimum) / x.optimum;
+      x.relative_J = x.J / row.front().J;  // rules[0] is paper
+      csv.row({cell.name, cell.endless ? "endless" : "finite", rules[k], seeds.count(), x.optimum, x.mean, x.sd,
+               x.error, x.J, x.relative_J, cell.unreachable.empty() ? 1 : 0});
       json_rows.push_back({{"cell", cell.name}, {"queue", cell.endless ? "endless" : "finite"},
                            {"overrides", cell.overrides}, {"controller", rules[k]}, {"optimum", x.optimum},
                            {"population_last_half", {{"mean", x.mean}, {"sd", x.sd}}},
-                           {"relative_error", error}, {"J_last_half_pooled", finite_or_null(x.J)},
-                           {"J_relative_to_paper", finite_or_null(relative_J)},
+                           {"relative_error", x.error}, {"J_last_half_pooled", finite_or_null(x.J)},
+                           {"J_relative_to_paper", finite_or_null(x.relative_J)},
                            {"unreachable", cell.unreachable}});
     }
     results.push_back(std::move(row));
@@ -154,15 +154,14 @@ int run_sweep(const SweepOptions& o) {
     md_j += "| " + row_labels[i] + " |";
     for (std::size_t k = 0; k < rules.size(); ++k) {
       const auto& x = results[i][k];
-      const double error = std::abs(x.mean - x.optimum) / x.optimum;
-      const double relative_J = x.J / results[i].front().J;
-      ev.push_back(round6(error));
-      const std::string cell_text = fixed(x.mean, 2) + "\u00a0(" + fixed(100.0 * error, 0) + "\u00a0%)";  // no wrap
+      ev.push_back(round6(x.error));
+      const std::string cell_text = fixed(x.mean, 2) + "\u00a0(" + fixed(100.0 * x.error, 0) + "\u00a0%)";  // no wrap
       et.push_back(cell_text);
-      jv.push_back(finite_or_null(round6(relative_J)));
-      jt.push_back(std::isfinite(relative_J) ? fixed(relative_J, 3) : std::string("–"));
+      const bool finite_J = std::isfinite(x.relative_J);
+      jv.push_back(finite_or_null(round6(x.relative_J)));
+      jt.push_back(finite_J ? fixed(x.relative_J, 3) : std::string("–"));
       md_error += " " + cell_text + " |";
-      md_j += " " + (std::isfinite(relative_J) ? fixed(relative_J, 3) : std::string("– (no deliveries)")) + " |";
+      md_j += " " + (finite_J ? fixed(x.relative_J, 3) : std::string("– (no deliveries)")) + " |";
     }
     md_error += "\n";
     md_j += "\n";
@@ -171,32 +170,30 @@ int run_sweep(const SweepOptions& o) {
     j_values.push_back(jv);
     j_text.push_back(jt);
   }
-  nlohmann::json rule_columns = rules;
-  nlohmann::json figures = nlohmann::json::array();
-  auto error_map = figure("error", "Distance to the optimum over the last half",
-                          "Each cell: the mean over seeds " + seeds.text() +
-                              " of the robots inside D over the last half, and |mean − N*|/N*; green within 10 %, "
-                              "red at 50 % and more.",
-                          "rule", "scenario");
-  error_map.erase("series");
-  error_map["heatmap"] = {{"rows", row_labels}, {"columns", rule_columns}, {"values", error_values},
-                          {"text", error_text}, {"low", 0.0}, {"high", 0.5}};
-  auto j_map = figure("J-relative", "J over the last half, relative to paper",
-                      "Each cell: J (pooled over seeds) of the rule over paper's on the same seeds; below 1 the rule "
-                      "does better. –: a J without deliveries.",
-                      "rule", "scenario");
-  j_map.erase("series");
-  j_map["heatmap"] = {{"rows", row_labels}, {"columns", rule_columns}, {"values", j_values},
-                      {"text", j_text}, {"low", 0.8}, {"high", 1.2}};
-  figures.push_back(error_map);
-  figures.push_back(j_map);
-  {
-    std::ofstream file(out + "/results.md");
-    file << "Seeds " << seeds.text() << ", in-process. Population over the last half (mean over seeds) and "
-            "|mean − N*|/N*:\n\n"
-         << md_error << "\nJ over the last half (pooled over seeds) relative to paper's:\n\n" << md_j;
-    if (!file.flush()) throw RunFailure("cannot write '" + out + "/results.md'");
-  }
+  // A heat map of one table: a cell per row, a rule per column.
+  const auto heatmap = [&](const std::string& id, const std::string& title, const std::string& note,
+                           const nlohmann::json& values, const nlohmann::json& text, double low, double high) {
+    auto f = figure(id, title, note, "rule", "scenario");
+    f.erase("series");
+    f["heatmap"] = {{"rows", row_labels}, {"columns", rules}, {"values", values}, {"text", text},
+                    {"low", low},         {"high", high}};
+    return f;
+  };
+  const nlohmann::json figures = {
+      heatmap("error", "Distance to the optimum over the last half",
+              "Each cell: the mean over seeds " + seeds.text() +
+                  " of the robots inside D over the last half, and |mean − N*|/N*; green within 10 %, red at 50 % "
+                  "and more.",
+              error_values, error_text, 0.0, 0.5),
+      heatmap("J-relative", "J over the last half, relative to paper",
+              "Each cell: J (pooled over seeds) of the rule over paper's on the same seeds; below 1 the rule does "
+              "better. –: a J without deliveries.",
+              j_values, j_text, 0.8, 1.2)};
+  write_text(out + "/results.md", "Seeds " + seeds.text() +
+                                      ", in-process. Population over the last half (mean over seeds) and "
+                                      "|mean − N*|/N*:\n\n" +
+                                      md_error + "\nJ over the last half (pooled over seeds) relative to paper's:\n\n" +
+                                      md_j);
   nlohmann::json page = {
       {"title", "retreat experiment: sweep"},
       {"subtitle", "Every registered rule on " + std::to_string(cells().size()) + " scenarios, seeds " + seeds.text() +

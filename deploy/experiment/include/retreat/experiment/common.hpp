@@ -44,12 +44,26 @@ struct Common {
 /// is not there.
 std::string scenario_file(const Common& common, const std::string& name);
 
+/// A shipped scenario the controllers are compared on: the paper's finite queue
+/// (robotarium-2019.yaml) or the endless one (steady-influx.yaml).
+struct QueueCase {
+  std::string name;   ///< `finite` or `endless`
+  std::string label;  ///< for people, e.g. `finite queue (robotarium-2019)`
+  std::string file;   ///< the scenario file (scenario_file())
+};
+
+/// The finite queue, then the endless one; throws UsageError when a file is missing.
+std::vector<QueueCase> queue_cases(const Common& common);
+
 /// Creates the run directory; throws UsageError when it exists and is not empty (a previous
 /// run is never mixed with a new one) or cannot be created.
 void make_run_dir(const std::string& dir);
 
 /// Writes JSON (2-space indent) through a temporary file. Non-finite numbers become null.
 void write_json(const std::string& path, const nlohmann::json& j);
+
+/// Writes `text` (e.g. results.md) through a temporary file, as write_json.
+void write_text(const std::string& path, const std::string& text);
 
 /// A CSV file: a header, then one row per call; numbers with 9 significant digits.
 class CsvWriter {
