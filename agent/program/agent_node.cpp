@@ -28,7 +28,7 @@ std::string agent_user_data(std::uint32_t robot_id) {
 }
 
 AgentNode::AgentNode(const scenario::Scenario& scenario, std::uint32_t robot_id,
-                     transport::Transport& transport)
+                     transport::Transport& transport, const std::string& journal_path)
     : transport_(transport),
       robot_id_(robot_id),
       status_period_(scenario.run.status_period),
@@ -39,7 +39,32 @@ AgentNode::AgentNode(const scenario::Scenario& scenario, std::uint32_t robot_id,
       decisions_(transport.create_writer<wire::Decision>(
           {wire::decision_topic(scenario.dds.prefix, robot_id), transport::QosIntent::answers()})),
       statuses_(transport.create_writer<wire::AgentStatus>(
-          {wire::agent_status_topic(scenario.dds.prefix), transport::QosIntent::state()})) {}
+          {wire::agent_status_topic(scenario.dds.prefix), transport::QosIntent::state()})) {
+  if (journal_path.empty()) return;
+  journal_ = std::make_unique<FrameJournal>(journal_path, journal_header(scenario, robot_id), robot_id);
+  for (const auto& f : journal_->recovered()) recover(f);
+}
+
+void AgentNode::recover(const wire::ProximityFrame& frame) {
+  ++counters_.frames_recovered;
+  const auto result = agent_.on_frame(to_observation(frame));
+  if (result.verdict != FrameVerdict::accepted) return;  // cannot happen for what handle() wrote
+  last_decision_ = wire::Decision{robot_id_, frame.tick, frame.time, result.retreating};
+  last_retreating_ = result.retreating;
+  departed_ = departed_ || frame.phase == wire::Phase::departed;
+}
+
+bool AgentNode::arena_seen() {
+  if (arena_seen_) return true;
+  const auto now = std::chrono::steady_clock::now();
+  if (now < next_arena_check_) return false;
+  next_arena_check_ = now + std::chrono::seconds(1);
+  arena_seen_ = counters_.frames_received > 0 || frames_.matched_count() > 0 || decisions_.matched_count() > 0;
+  for (const auto& p : arena_seen_ ? std::vector<transport::ParticipantInfo>{} : transport_.participants()) {
+    arena_seen_ = arena_seen_ || p.user_data.rfind("retreat:arena", 0) == 0;
+  }
+  return arena_seen_;
+}
 
 void AgentNode::spin_once(std::chrono::nanoseconds timeout) {
   // One buffer per thread rather than one per agent: a swarm in one process spins every agent
@@ -88,6 +113,8 @@ void AgentNode::handle(const wire::ProximityFrame& frame) {
     return;
   }
   if (result.verdict != FrameVerdict::accepted) return;
+  // Journalled before it is answered: every answer the arena can have seen survives a restart.
+  if (journal_) journal_->append(frame);
   // Every accepted frame is answered with this tick's decision (lockstep waits for it).
   const wire::Decision decision{robot_id_, frame.tick, frame.time, result.retreating};
   last_decision_ = decision;

@@ -12,6 +12,9 @@ std::variant<AgentCommandLine, int> parse_command_line(int argc, char** argv) {
   scenario::CommonOptions common;
   AgentCommandLine out;
   app.add_option("--robot-id", out.robot_id, "the robot this agent serves")->required();
+  app.add_option("--journal", out.journal,
+                 "journal every accepted frame to FILE; a restarted agent given the same FILE resumes "
+                 "its window, steps and coins where the previous process stopped");
   scenario::add_common_options(app, common);
   if (const auto code = scenario::parse_command_line(app, argc, argv, program)) return *code;
   return scenario::guarded(program, [&]() -> std::variant<AgentCommandLine, int> {

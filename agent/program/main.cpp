@@ -5,7 +5,7 @@
 //         <prefix>/agent_status           (its own status, keyed by robot id)
 //
 // Exit codes: 0 after the robot departed or on SIGINT/SIGTERM; 2 bad input at start-up;
-// 1 middleware failure.
+// 1 middleware failure; 3 no arena or robot driver appeared within run.startup_timeout.
 
 #include <chrono>
 #include <cstdio>
@@ -14,6 +14,7 @@
 
 #include "retreat/agent/agent_node.hpp"
 #include "retreat/agent/command_line.hpp"
+#include "retreat/model/format_number.hpp"
 #include "retreat/scenario/program_options.hpp"
 #include "retreat/transport/factory.hpp"
 
@@ -37,9 +38,24 @@ int main(int argc, char** argv) {
     auto transport = transport::make_transport(
         retreat::name_of(s.dds.vendor), scenario::participant_options(s, "retreat-agent/" + robot,
                                                     agent::agent_user_data(robot_id), robot));
-    agent::AgentNode node(s, robot_id, *transport);
+    agent::AgentNode node(s, robot_id, *transport, command_line.journal);
+    if (node.counters().frames_recovered > 0) {
+      std::fprintf(stderr, "retreat-agent robot %u: resumed from the journal '%s': %llu frames, up to tick %lld\n",
+                   robot_id, command_line.journal.c_str(),
+                   static_cast<unsigned long long>(node.counters().frames_recovered),
+                   static_cast<long long>(node.agent().status().tick.value_or(-1)));
+    }
+    const auto started = std::chrono::steady_clock::now();
+    const auto startup_timeout = std::chrono::duration<double>(s.run.startup_timeout);
     while (!scenario::stop_requested() && !node.departed()) {
       node.spin_once(std::chrono::milliseconds(100));
+      if (!node.arena_seen() && std::chrono::steady_clock::now() - started > startup_timeout) {
+        scenario::report_error(program, "robot " + std::to_string(robot_id) +
+                                            ": no arena or robot driver appeared within run.startup_timeout = " +
+                                            model::format_number(s.run.startup_timeout) + " s");
+        scenario::limit_teardown(program, scenario::teardown_limit, 3);
+        return 3;
+      }
     }
     node.flush(std::chrono::seconds(1));
     const auto& c = node.counters();

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <thread>
 
 #include "retreat/core/seed.hpp"
@@ -21,8 +22,18 @@ struct ArenaNode::Robot {
   wire::Phase phase = wire::Phase::waiting;
   std::uint32_t sensed_onsets = 0;  ///< the current frame's onsets as the robot's sensor reports them
   AgentRecord record;
-  transport::Writer<wire::ProximityFrame> frames;
-  transport::Reader<wire::Decision> decisions;
+  robot::Endpoints endpoints;  ///< the same endpoints a real robot's link uses
+  /// A real robot (arena.external_robots): its tracked poses, and what the arena knows of them.
+  struct External {
+    transport::Reader<wire::Poses> poses;
+    bool has_pose = false;
+    bool frozen = false;
+    double robot_time = 0.0;  ///< the robot's clock at its last accepted pose [s]
+    double x = 0.0;
+    double y = 0.0;
+    double seen_at = 0.0;     ///< arena time of its last accepted pose [s]
+  };
+  std::unique_ptr<External> external;
 };
 
 namespace {
@@ -72,10 +83,12 @@ ArenaNode::Robot& ArenaNode::robot(std::uint32_t id) {
     robots_.push_back(std::make_unique<Robot>(Robot{
         .id = next,
         .record = AgentRecord{next},
-        .frames = transport_.create_writer<wire::ProximityFrame>(
-            {wire::proximity_topic(prefix, next), transport::QosIntent::control()}),
-        .decisions = transport_.create_reader<wire::Decision>(
-            {wire::decision_topic(prefix, next), transport::QosIntent::control()})}));
+        .endpoints = robot::Endpoints(transport_, prefix, next),
+        .external = nullptr}));
+    if (next < scenario_.arena.external_robots) {
+      robots_.back()->external = std::make_unique<Robot::External>(
+          Robot::External{robot::tracked_pose_reader(transport_, prefix, next)});
+    }
   }
   return *robots_[id];
 }
@@ -86,9 +99,10 @@ std::uint32_t ArenaNode::wait_for_agents(std::chrono::nanoseconds timeout, const
   auto departed = [](const Robot& r) { return r.phase == wire::Phase::departed; };
   auto matched = [&](const Robot& r) {
     return departed(r) ? r.record.retreated
-                       : r.frames.matched_count() > 0 && r.decisions.matched_count() > 0;
+                       : r.endpoints.matched() && (!r.external || r.external->has_pose);
   };
   for (;;) {
+    take_external_poses();
     std::uint32_t n = 0;
     for (const auto& r : robots_) n += matched(*r) || departed(*r) ? 1 : 0;
     if (n == robots_.size() || std::chrono::steady_clock::now() >= deadline || !keep_going()) break;
@@ -104,8 +118,65 @@ std::uint32_t ArenaNode::wait_for_agents(std::chrono::nanoseconds timeout, const
       r->record.lost_at = 0.0;
     }
   }
+  for (auto& r : robots_) {
+    if (r->external && !r->external->has_pose && !departed(*r) && world_->lose_external(r->id)) {
+      ++external_.lost;  // a real robot that never reported a pose cannot be in the arena
+      std::fprintf(stderr, "retreat-arena: real robot %u sent no pose before the start: lost\n", r->id);
+    }
+  }
   started_ = std::chrono::steady_clock::now();
   return agents_started_;
+}
+
+void ArenaNode::take_external_poses() {
+  const auto& p = scenario_.arena;
+  if (p.external_robots == 0) return;
+  const double now = world_->telemetry().time;
+  for (std::uint32_t id = 0; id < p.external_robots && id < robots_.size(); ++id) {
+    auto& r = robots_[id];
+    auto& e = *r->external;
+    e.poses.take(taken_poses_);
+    for (const auto& sample : taken_poses_) {
+      const auto& pose = sample.robots.front();  // validation: exactly one, this robot's
+      if (e.has_pose && sample.time < e.robot_time) {
+        ++external_.poses_clock_back;
+        continue;
+      }
+      const double moved = std::hypot(pose.x - e.x, pose.y - e.y);
+      if (e.has_pose && moved > p.external_max_speed * (sample.time - e.robot_time) + p.robot_radius) {
+        ++external_.poses_jumped;  // tracking glitch or a wrong robot: not a move it can make
+        continue;
+      }
+      if (!world_->set_external_pose(r->id, pose.x, pose.y, pose.theta)) continue;  // not in D any more
+      ++external_.poses_accepted;
+      e.has_pose = true;
+      e.frozen = false;
+      e.robot_time = sample.time;
+      e.x = pose.x;
+      e.y = pose.y;
+      e.seen_at = now;
+    }
+    if (!e.has_pose || r->phase == wire::Phase::departed) continue;
+    const double age = now - e.seen_at;
+    if (age > p.external_lost_after) {
+      if (world_->lose_external(r->id)) {
+        ++external_.lost;
+        std::fprintf(stderr, "retreat-arena: real robot %u: no pose for %.1f s: lost (it departs)\n", r->id, age);
+      }
+    } else if (age > p.external_frozen_after && !e.frozen) {
+      e.frozen = true;
+      ++external_.frozen;
+      std::fprintf(stderr, "retreat-arena: real robot %u: no pose for %.1f s: frozen where last seen\n", r->id, age);
+    }
+  }
+}
+
+ExternalCounters ArenaNode::external_counters() const {
+  ExternalCounters c = external_;
+  for (const auto& r : robots_) {
+    if (r->external) c.poses_invalid += r->external->poses.stats().dropped_total();
+  }
+  return c;
 }
 
 void ArenaNode::publish_tick() {
@@ -122,7 +193,7 @@ void ArenaNode::publish_tick() {
     // A lost agent gets no more frames: a reliable writer would otherwise queue them for a
     // reader that never acknowledges, and block once its history is full.
     if (r.record.lost) continue;
-    if (r.frames.write(frame) != transport::WriteResult::ok && r.expecting) {
+    if (r.endpoints.frames.write(frame) != transport::WriteResult::ok && r.expecting) {
       // The agent's reader has stopped acknowledging: treat it like a silent agent.
       r.expecting = false;
       r.record.lost = true;
@@ -154,14 +225,15 @@ void ArenaNode::publish_observations() {
 }
 
 void ArenaNode::take_decisions(Robot& r, std::int64_t current) {
-  r.decisions.take(taken_);
+  const bool lockstep = scenario_.run.mode == scenario::RunMode::lockstep;
+  r.endpoints.decisions.take(taken_);
   for (const auto& d : taken_) {
     if (r.phase == wire::Phase::departed) continue;  // the answer to its last frame: nothing to do
     if (d.robot_id >= world_->robot_count()) {
       ++counters_.unknown_robot;
-    } else if (d.tick > current) {
+    } else if (const auto verdict = robot::judge(d, current, lockstep); verdict == robot::DecisionVerdict::future) {
       ++counters_.future;
-    } else if (scenario_.run.mode == scenario::RunMode::lockstep && (d.tick < current || r.record.lost)) {
+    } else if (verdict == robot::DecisionVerdict::stale || (lockstep && r.record.lost)) {
       ++counters_.stale;  // lockstep answers only count for the tick they answer
     } else {
       ++counters_.received;
@@ -197,7 +269,7 @@ bool ArenaNode::collect_lockstep(const KeepGoing& keep_going) {
   const auto timeout = std::chrono::duration<double>(scenario_.run.agent_timeout);
   const auto start = std::chrono::steady_clock::now();
   const auto deadline = start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(timeout);
-  auto next_resend = start + resend_interval;
+  auto next_resend = start + robot::resend_interval;
   for (;;) {
     if (collect_available()) return true;
     if (!keep_going()) return false;
@@ -206,7 +278,7 @@ bool ArenaNode::collect_lockstep(const KeepGoing& keep_going) {
       // may never arrive: volatile readers do not get samples written before they matched.
       // Re-send the frame; the agent answers a repeated tick with the decision it recorded.
       resend_unanswered();
-      next_resend += resend_interval;
+      next_resend += robot::resend_interval;
     }
     if (std::chrono::steady_clock::now() >= deadline) {
       for (auto& r : robots_) {
@@ -225,12 +297,15 @@ void ArenaNode::resend_unanswered() {
   for (const auto& f : world_->frames()) {
     auto& r = robot(f.id);
     if (!r.expecting || r.answered || r.record.lost) continue;
-    r.frames.write({f.id, f.tick, f.time, r.phase, f.in_contact, r.sensed_onsets});
+    r.endpoints.frames.write({f.id, f.tick, f.time, r.phase, f.in_contact, r.sensed_onsets});
     ++counters_.resent_frames;
   }
 }
 
-void ArenaNode::step() { advance(nullptr); }
+void ArenaNode::step() {
+  take_external_poses();
+  advance(nullptr);
+}
 
 void ArenaNode::replay(std::int64_t ticks, const RetreatJournal& journal) {
   while (tick() < ticks && !finished()) advance(&journal);
@@ -282,7 +357,7 @@ bool ArenaNode::finished() const {
 DecisionCounters ArenaNode::decisions() const {
   DecisionCounters c = counters_;
   c.invalid = 0;
-  for (const auto& r : robots_) c.invalid += r->decisions.stats().dropped_total();
+  for (const auto& r : robots_) c.invalid += r->endpoints.decisions.stats().dropped_total();
   return c;
 }
 
@@ -308,6 +383,7 @@ RunSummary ArenaNode::finish(double wall_seconds) {
   s.resumed_at_tick = resumed_at_tick_;
   s.trajectory_sha256 = hash_.finish();
   s.dds = std::string(transport_.vendor());
+  s.external = external_counters();
   if (recorder_ != nullptr) {
     std::vector<AgentRecord> agents;
     for (const auto& r : robots_) agents.push_back(r->record);

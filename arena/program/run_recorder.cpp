@@ -220,6 +220,16 @@ void RunRecorder::finish(const physics::World& world, const std::vector<AgentRec
   j["frames_resent"] = summary.frames_resent;
   j["decisions_received"] = summary.decisions_received;
   if (summary.resumed_at_tick >= 0) j["resumed_at_tick"] = summary.resumed_at_tick;
+  if (scenario_.arena.external_robots > 0) {
+    const auto& e = summary.external;
+    j["external"] = {{"robots", scenario_.arena.external_robots},
+                     {"poses_accepted", e.poses_accepted},
+                     {"poses_invalid", e.poses_invalid},
+                     {"poses_clock_back", e.poses_clock_back},
+                     {"poses_jumped", e.poses_jumped},
+                     {"frozen", e.frozen},
+                     {"lost", e.lost}};
+  }
   j["commands"]["accepted"] = last_.commands.accepted;
   j["commands"]["rejected_not_inside"] = last_.commands.rejected_not_inside;
   j["commands"]["rejected_unknown"] = last_.commands.rejected_unknown;

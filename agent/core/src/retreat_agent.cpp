@@ -143,6 +143,15 @@ AgentSnapshot RetreatAgent::status() const {
   s.onsets_in_window = last_onsets_;
   s.lambda_hat = last_lambda_hat_;
   s.epsilon = last_epsilon_;
+  if (decision_steps_ == 0 && entry_time_ && !stopped_) {
+    // Before the first decision step (L for `paper`) nothing has been queried or evicted: every
+    // onset held was counted since entry. Report that count and the estimate over the time
+    // inside so far, so that a dashboard does not read 0 while onsets are being counted.
+    const double inside = last_time_ - *entry_time_;
+    s.onsets_in_window = window_.held();
+    s.partial_window = inside;
+    s.lambda_hat = inside > 0.0 ? model::mle_density(window_.held(), model_.delta, model_.v, inside) : 0.0;
+  }
   s.steps = next_step_ - 1;
   s.decision_steps = decision_steps_;
   s.decision_time = decision_time_;

@@ -177,6 +177,18 @@ void WorldParams::validate() const {
   require(std::isfinite(missed_onsets) && missed_onsets >= 0.0 && missed_onsets <= 1.0, "arena.missed_onsets",
           missed_onsets, "must be in [0, 1] (a probability per onset)");
   require_non_negative("arena.false_onsets", false_onsets, "1/s");
+  if (external_robots > 0) {
+    require(model == EncounterModel::physical, "arena.external_robots", external_robots,
+            "must be 0 with arena.encounter_model = kinetic (a real robot needs positions)");
+    require(external_robots <= robots_inside, "arena.external_robots", external_robots,
+            "must be <= arena.robots_inside (" + std::to_string(robots_inside) +
+                "): real robots are robots 0 .. external_robots-1 and start inside");
+  }
+  require_positive("arena.external_frozen_after", external_frozen_after, "s");
+  require(std::isfinite(external_lost_after) && external_lost_after >= external_frozen_after,
+          "arena.external_lost_after", external_lost_after,
+          "must be >= arena.external_frozen_after (" + text(external_frozen_after) + " s)");
+  require_positive("arena.external_max_speed", external_max_speed, "m/s");
 
   // Domain.
   const double inset = walk_inset(*this);

@@ -70,6 +70,27 @@ PhysicalWorld::PhysicalWorld(const WorldParams& params)
 void PhysicalWorld::on_robot_created(RobotId id) {
   bodies_.emplace_back();
   bodies_[id].rng = Rng(retreat::seed_for(params_.seed, id, retreat::Stream::robot_motion));
+  bodies_[id].external = id < params_.external_robots;
+}
+
+bool PhysicalWorld::is_external_in_d(RobotId id) const {
+  return id < bodies_.size() && bodies_[id].external &&
+         (stats_[id].phase == Phase::inside || stats_[id].phase == Phase::retreating);
+}
+
+bool PhysicalWorld::set_external_pose(RobotId id, double x, double y, double theta) {
+  if (!is_external_in_d(id) || !std::isfinite(x) || !std::isfinite(y) || !std::isfinite(theta)) return false;
+  bodies_[id].pose.position = Vec2(x, y);
+  bodies_[id].pose.theta = theta;
+  return true;
+}
+
+bool PhysicalWorld::lose_external(RobotId id) {
+  if (!is_external_in_d(id)) return false;
+  tracker_.update(id, {}, time_);  // ends its contacts (the partners see it gone too)
+  depart(id, time_);
+  active_.erase(std::remove(active_.begin(), active_.end(), id), active_.end());
+  return true;
 }
 
 void PhysicalWorld::on_retreat(RobotId id) { bodies_[id].entering = false; }
@@ -89,7 +110,7 @@ void PhysicalWorld::step_physics() {
     if (stats_[id].phase == Phase::inside) {
       stats_[id].state_time[static_cast<std::size_t>(body.sensed_state)] += dt_;
     }
-    body.pose = integrate_euler(body.pose, body.command, dt_);
+    if (!body.external) body.pose = integrate_euler(body.pose, body.command, dt_);
   }
   ++step_;
   time_ = static_cast<double>(step_) * dt_;
@@ -98,7 +119,8 @@ void PhysicalWorld::step_physics() {
   bool departed = false;
   for (const RobotId id : active_) {
     Body& body = bodies_[id];
-    if (stats_[id].phase == Phase::retreating) {
+    if (stats_[id].phase == Phase::retreating || body.external) {
+      // A real robot leaves by its own motion, told to or not.
       if (domain_.signed_distance(body.pose.position) >= params_.robot_radius) {
         tracker_.update(id, {}, time_);  // ends its contacts (the partners see it gone too)
         depart(id, time_);
@@ -203,6 +225,11 @@ void PhysicalWorld::sense(bool initial) {
       add_onsets(id, tracker_.update(id, partners_, time_));
     }
     in_contact_[id] = partners_.empty() ? 0 : 1;
+
+    if (body.external) {
+      body.sensed_state = task_state(stats.loaded, in_contact_[id] != 0);
+      continue;  // a real robot does its own task and moves by itself
+    }
 
     // Collection task (robots inside only; a retreating robot carries its load out).
     if (stats.phase == Phase::inside) {

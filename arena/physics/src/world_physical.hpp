@@ -26,6 +26,8 @@ class PhysicalWorld final : public WorldBase {
   explicit PhysicalWorld(const WorldParams& params);
 
   void step_tick() override;
+  bool set_external_pose(RobotId id, double x, double y, double theta) override;
+  bool lose_external(RobotId id) override;
   Telemetry telemetry() const override;
   Poses poses() const override;
   std::vector<ContactRecord> take_contact_records() override { return tracker_.take_records(); }
@@ -39,7 +41,10 @@ class PhysicalWorld final : public WorldBase {
     Rng rng;
     TaskState sensed_state = TaskState::f;
     bool entering = false;
+    bool external = false;  ///< a real robot: posed from outside, never moved or commanded here
   };
+
+  bool is_external_in_d(RobotId id) const;
 
   void on_robot_created(RobotId id) override;
   void on_retreat(RobotId id) override;

@@ -16,6 +16,9 @@ std::string proximity_topic(const std::string& prefix, RobotId robot) {
 std::string decision_topic(const std::string& prefix, RobotId robot) {
   return robot_topic(prefix, robot, "decision");
 }
+std::string tracked_pose_topic(const std::string& prefix, RobotId robot) {
+  return robot_topic(prefix, robot, "tracked_pose");
+}
 std::string agent_status_topic(const std::string& prefix) { return prefix + "/agent_status"; }
 std::string arena_telemetry_topic(const std::string& prefix) { return prefix + "/arena_telemetry"; }
 std::string poses_topic(const std::string& prefix) { return prefix + "/poses"; }

@@ -45,7 +45,12 @@ SampleFault check(const ArenaTelemetry& m, std::optional<RobotId>) {
   return ok ? SampleFault::ok : SampleFault::bad_value;
 }
 
-SampleFault check(const Poses& m, std::optional<RobotId>) {
+SampleFault check(const Poses& m, std::optional<RobotId> topic_robot) {
+  // On a per-robot topic (a real robot's tracked pose) the sample is about that robot only.
+  if (auto f = check_robot(m.arena_id, topic_robot); f != SampleFault::ok) return f;
+  if (topic_robot && (m.robots.size() != 1 || m.robots[0].robot_id != *topic_robot)) {
+    return SampleFault::wrong_robot;
+  }
   if (auto f = check_clock(m.tick, m.time); f != SampleFault::ok) return f;
   for (const auto& r : m.robots) {
     if (!valid_phase(r.phase)) return SampleFault::bad_phase;

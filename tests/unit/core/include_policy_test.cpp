@@ -83,9 +83,9 @@ Room room_of(const std::string& relative) {
       {"idl/core/", 0},       {"idl/wire/", 1},          {"idl/transport/", 2},
       {"idl/fastdds/", 3},    {"idl/cyclonedds/", 3},    {"idl/factory/", 4},
       {"agent/model/", 5},    {"agent/core/", 6},        {"arena/physics/", 6},
-      {"bridge/telemetry/", 6}, {"deploy/config/", 7},   {"agent/program/", 8},
-      {"arena/program/", 8},  {"bridge/", 9},            {"deploy/launch/", 10},
-      {"deploy/experiment/", 11}};
+      {"bridge/telemetry/", 6}, {"deploy/config/", 7},   {"robot/", 8},
+      {"agent/program/", 8},  {"arena/program/", 9},    {"bridge/", 10},
+      {"deploy/launch/", 11}, {"deploy/experiment/", 12}};
   for (const auto& room : rooms) {
     if (relative.rfind(room.prefix, 0) == 0) return room;
   }

@@ -168,6 +168,10 @@ void validate(const Scenario& s) {
   validate_run(s.run);
   validate_dds(s.dds);
   validate_bridge(s.bridge);
+  check(s.arena.external_robots == 0 || (s.run.mode == RunMode::realtime && s.dds.vendor != Vendor::inmemory),
+        "arena.external_robots", std::to_string(s.arena.external_robots),
+        "must be 0 unless run.mode is realtime over DDS (a real robot keeps its own clock and "
+        "publishes its pose over DDS)");
 }
 
 std::vector<std::string> known_keys() { return key_index().keys; }

@@ -31,8 +31,15 @@ struct AgentSnapshot {
   bool deciding = false;             ///< has made a decision step and not stopped
   bool stopped = false;     ///< no more steps: decided, or the phase became retreating/departed
   bool retreating = false;  ///< has decided to retreat (sticky)
-  std::uint64_t onsets_in_window = 0;  ///< y_iL at the last decision step [-]
-  double lambda_hat = 0.0;             ///< λ̂ at the last decision step [robots/m²]
+  /// y_iL at the last decision step [-]; before the first decision step, the onsets counted
+  /// since entry (over partial_window seconds).
+  std::uint64_t onsets_in_window = 0;
+  /// λ̂ at the last decision step [robots/m²]; before the first decision step, the same estimate
+  /// over the time inside so far (y / (4δ(4/π)v·partial_window); 0 at entry).
+  double lambda_hat = 0.0;
+  /// Before the first decision step: the time inside so far [s] that onsets_in_window and
+  /// lambda_hat cover; 0 once decision steps are taken (they cover L).
+  double partial_window = 0.0;
   double epsilon = 0.0;                ///< controller's rate at the last decision step, p/dt before
                                        ///< clamping [1/s] (ε(λ̂) for `paper`)
   std::uint64_t steps = 0;             ///< steps taken, k of the last step (with or without a coin)

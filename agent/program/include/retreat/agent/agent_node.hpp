@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "retreat/agent/frame_journal.hpp"
 #include "retreat/agent/retreat_agent.hpp"
 #include "retreat/scenario/params.hpp"
 #include "retreat/transport/transport.hpp"
@@ -27,20 +28,30 @@ struct NodeCounters {
   /// Arena incarnations seen: participants that matched this robot's decision topic as readers
   /// (1 in a run without restarts; one more for each arena resumed by `--resume`).
   std::uint32_t arena_incarnations = 0;
+  /// Frames read back from the journal at start-up (a restarted agent), acted on again in order.
+  std::uint64_t frames_recovered = 0;
 };
 
 class AgentNode {
  public:
   /// Creates the endpoints: a reader on `<prefix>/robot_<id>/proximity` only, writers on
   /// `<prefix>/robot_<id>/decision` (QosIntent::answers(): a dead arena cannot block it) and
-  /// `<prefix>/agent_status`.
-  AgentNode(const scenario::Scenario& scenario, std::uint32_t robot_id, transport::Transport& transport);
+  /// `<prefix>/agent_status`. With @p journal_path, every accepted frame is journalled there
+  /// before it is answered, and the frames an earlier process journalled are acted on first, so
+  /// that the agent resumes exactly where that process stopped (FrameJournal; its errors pass on).
+  AgentNode(const scenario::Scenario& scenario, std::uint32_t robot_id, transport::Transport& transport,
+            const std::string& journal_path = {});
 
   /// Waits up to `timeout` for frames and handles every one received (on this thread).
   void spin_once(std::chrono::nanoseconds timeout);
 
   /// The robot has left the domain (a `departed` frame was accepted).
   bool departed() const { return departed_; }
+
+  /// Whoever plays the arena's part has appeared: a frame arrived, one of this robot's topics is
+  /// matched, or a participant announcing `retreat:arena` was discovered (an endless queue's
+  /// spare agent waits for a robot the arena has not made yet). Checked at most once a second.
+  bool arena_seen();
 
   /// Waits until the arena acknowledged everything sent, up to `timeout`.
   void flush(std::chrono::nanoseconds timeout);
@@ -50,6 +61,8 @@ class AgentNode {
 
  private:
   void handle(const wire::ProximityFrame& frame);
+  /// Acts on a journalled frame again, publishing nothing.
+  void recover(const wire::ProximityFrame& frame);
   void publish_status(std::int64_t tick, double time);
   /// Notices a new arena incarnation: a participant not seen before reading our decisions.
   void watch_decision_readers();
@@ -69,6 +82,9 @@ class AgentNode {
   std::set<std::string> decision_readers_;  ///< participant GUIDs that ever read our decisions
   std::chrono::steady_clock::time_point next_reader_check_{};
   std::uint64_t spins_ = 0;
+  std::unique_ptr<FrameJournal> journal_;
+  bool arena_seen_ = false;
+  std::chrono::steady_clock::time_point next_arena_check_{};
 };
 
 /// The participant user data an agent announces: "retreat:agent:robot=<id>".

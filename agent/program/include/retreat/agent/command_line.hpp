@@ -4,6 +4,7 @@
 /// the program and tests/fuzz/command_line_fuzzer.cpp run the same code.
 
 #include <cstdint>
+#include <string>
 #include <variant>
 
 #include "retreat/scenario/scenario.hpp"
@@ -13,6 +14,7 @@ namespace retreat::agent {
 struct AgentCommandLine {
   scenario::Scenario scenario;  ///< resolved and validated, with --set, --dds and --domain
   std::uint32_t robot_id = 0;   ///< --robot-id, a robot the scenario has
+  std::string journal;          ///< --journal FILE: journal accepted frames, resume from them
   bool print_config = false;
 };
 

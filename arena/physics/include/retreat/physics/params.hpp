@@ -88,6 +88,14 @@ struct WorldParams {
   bool record_encounters = false;  ///< keep per-pair and per-robot contact intervals
   double missed_onsets = 0.0;  ///< each robot's sensor misses each encounter onset with this chance [-]
   double false_onsets = 0.0;   ///< each robot's sensor reports spurious onsets at this rate inside D [1/s]
+
+  // --- arena: external (real) robots in a mixed swarm -----------------------------------------
+  /// Robots 0 .. external_robots−1 are real: their poses come from outside (set_external_pose),
+  /// not from the simulation; simulated robots avoid them and meet them. Physical world only.
+  std::uint32_t external_robots = 0;
+  double external_frozen_after = 0.5;  ///< a pose older than this [s of arena time] is frozen
+  double external_lost_after = 5.0;    ///< ... and older than this, the robot is lost [s]
+  double external_max_speed = 1.0;     ///< a pose implying a faster move is a jump: dropped [m/s]
   std::uint64_t seed = 1;          ///< scenario seed; every random stream derives from it
 
   // --- model: the paper's numbers the physics needs ---------------------------------------------
@@ -104,7 +112,8 @@ struct WorldParams {
   /// begin), v ≤ l·max_turn_rate (the walk needs q fully actuated at speed v),
   /// max_speed·physics_dt ≤ δ/4, max_turn_rate·physics_dt ≤ 0.5, boundary_gain·physics_dt ≤ 1.
   /// Kinetic world only: ρ > 0. Sensing noise (both worlds): missed_onsets in [0, 1],
-  /// false_onsets finite and >= 0.
+  /// false_onsets finite and >= 0. External robots: physical world only, at most robots_inside,
+  /// 0 < external_frozen_after <= external_lost_after, external_max_speed > 0.
   /// @throws std::invalid_argument with one line naming the first bad key, its value and the
   ///         allowed range, e.g. `arena.physics_dt = 0.007: must divide arena.tick_dt (0.03 s) into
   ///         a whole number of steps`.
@@ -138,6 +147,10 @@ struct WorldParams {
     a("record_encounters", record_encounters);
     a("missed_onsets", missed_onsets);
     a("false_onsets", false_onsets);
+    a("external_robots", external_robots);
+    a("external_frozen_after", external_frozen_after);
+    a("external_lost_after", external_lost_after);
+    a("external_max_speed", external_max_speed);
   }
 };
 

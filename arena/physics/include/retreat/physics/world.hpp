@@ -112,6 +112,25 @@ class World {
   /// Advances one tick (tick_dt seconds).
   virtual void step_tick() = 0;
 
+  /// Mixed swarm (`arena.external_robots`): real robot @p id is at @p x, @p y [m] heading
+  /// @p theta [rad], as measured outside (tracking or the robot's own estimate). The simulation
+  /// never moves it: it stays at the last pose set (frozen) until the next. Simulated robots
+  /// avoid it with their barrier certificates and meet it (onsets for both). A real robot whose
+  /// footprint is wholly outside D departs, told to retreat or not: it leaves by its own motion.
+  /// Returns false, changing nothing, when @p id is not a real robot in D. Physical world only
+  /// (the kinetic world has no positions and returns false).
+  virtual bool set_external_pose(RobotId id, double x, double y, double theta) {
+    (void)id, (void)x, (void)y, (void)theta;
+    return false;
+  }
+
+  /// Real robot @p id is lost (no pose for too long): it departs now, ending its contacts.
+  /// Returns false when @p id is not a real robot in D.
+  virtual bool lose_external(RobotId id) {
+    (void)id;
+    return false;
+  }
+
   /// One frame per robot that is waiting, inside or retreating, plus one for each robot that
   /// departed during the last tick (phase departed, so its agent learns it), ascending id.
   virtual const std::vector<RobotFrame>& frames() const = 0;

@@ -13,6 +13,7 @@
 
 #include "retreat/physics/sensor_noise.hpp"
 #include "retreat/physics/world.hpp"
+#include "retreat/robot/endpoints.hpp"
 #include "retreat/scenario/params.hpp"
 #include "retreat/transport/transport.hpp"
 #include "retreat/arena/run_recorder.hpp"
@@ -34,9 +35,6 @@ struct DecisionCounters {
   std::uint64_t resent_frames = 0;  ///< lockstep frames sent again because no answer came
   std::uint64_t received = 0;       ///< valid decisions taken from the wire
 };
-
-/// Lockstep: how long the arena waits for an answer before sending a frame again.
-inline constexpr std::chrono::milliseconds resend_interval{200};
 
 class ArenaNode {
  public:
@@ -85,12 +83,17 @@ class ArenaNode {
   /// The counters so far (`invalid` summed over every robot's reader now).
   DecisionCounters decisions() const;
   std::uint32_t agents_lost() const;
+  /// A mixed swarm's real robots: poses taken, dropped, frozen and lost so far.
+  ExternalCounters external_counters() const;
   std::int64_t tick() const;
 
  private:
   struct Robot;
   Robot& robot(std::uint32_t id);
   void take_decisions(Robot& r, std::int64_t current);
+  /// Real robots: applies every valid tracked pose that arrived (dropping and counting those
+  /// going back in time or jumping), then freezes or loses those whose pose is too old.
+  void take_external_poses();
   void resend_unanswered();
   void publish_observations();
   /// step() and replay(): `journal` null means live (decisions from the wire, journalled).
@@ -103,6 +106,8 @@ class ArenaNode {
   physics::SensorNoise sensor_;  ///< each robot's sensor (arena.missed_onsets, arena.false_onsets)
   std::vector<std::unique_ptr<Robot>> robots_;  ///< by robot id (ids are 0 .. robot_count()−1)
   std::vector<wire::Decision> taken_;           ///< take_decisions' buffer, kept between calls
+  std::vector<wire::Poses> taken_poses_;        ///< take_external_poses' buffer
+  ExternalCounters external_;
   transport::Writer<wire::ArenaTelemetry> telemetry_;
   transport::Writer<wire::Poses> poses_;
   TrajectoryHash hash_;

@@ -43,6 +43,16 @@ struct AgentRecord {
 };
 
 /// Everything summary.json reports.
+/// A mixed swarm's real robots (arena.external_robots), as the arena saw their poses.
+struct ExternalCounters {
+  std::uint64_t poses_accepted = 0;
+  std::uint64_t poses_invalid = 0;     ///< dropped by validation (another robot's, NaN, ...)
+  std::uint64_t poses_clock_back = 0;  ///< dropped: earlier than the robot's previous pose
+  std::uint64_t poses_jumped = 0;      ///< dropped: a move faster than arena.external_max_speed
+  std::uint64_t frozen = 0;            ///< times a real robot's pose became older than external_frozen_after
+  std::uint32_t lost = 0;              ///< real robots lost (no pose for external_lost_after)
+};
+
 struct RunSummary {
   std::int64_t ticks = 0;
   double wall_seconds = 0.0;
@@ -54,6 +64,7 @@ struct RunSummary {
   std::int64_t resumed_at_tick = -1;    ///< --resume: the tick this process took over at
   std::string trajectory_sha256;
   std::string dds;
+  ExternalCounters external;  ///< written to summary.json when the run has real robots
 };
 
 /// Retreat decisions a run acted on, tick by tick (`retreats.csv`): with the scenario and its

@@ -15,6 +15,9 @@ inline constexpr const char* default_prefix = "retreat";
 
 std::string proximity_topic(const std::string& prefix, RobotId robot);  ///< <p>/robot_<id>/proximity
 std::string decision_topic(const std::string& prefix, RobotId robot);   ///< <p>/robot_<id>/decision
+/// <p>/robot_<id>/tracked_pose: a real robot's pose in a mixed swarm (a Poses sample with
+/// arena_id = id and one RobotPose of robot id), real robot -> arena.
+std::string tracked_pose_topic(const std::string& prefix, RobotId robot);
 std::string agent_status_topic(const std::string& prefix);              ///< <p>/agent_status
 std::string arena_telemetry_topic(const std::string& prefix);           ///< <p>/arena_telemetry
 std::string poses_topic(const std::string& prefix);                     ///< <p>/poses

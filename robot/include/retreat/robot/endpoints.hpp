@@ -1,0 +1,57 @@
+#pragma once
+/// @file
+/// The robot's side of the wire, shared by every producer of proximity frames: the simulated
+/// arena (one per robot it serves) and a real robot's driver (retreat::robot::RobotLink). Both
+/// create their endpoints and judge their agent's decisions here, so a driver speaks exactly
+/// what the arena speaks (docs/protocol.md §2, §5, §6).
+
+#include <chrono>
+#include <cstdint>
+#include <string>
+
+#include "retreat/transport/transport.hpp"
+
+namespace retreat::robot {
+
+/// Lockstep: how long a robot's side waits for an answer before it sends the frame again
+/// (a frame written while the two sides were still discovering each other may never arrive).
+inline constexpr std::chrono::milliseconds resend_interval{200};
+
+/// The participant user data of whoever plays the arena's part for a robot (docs/protocol.md §9;
+/// informational: nothing in retreat acts on it).
+inline constexpr const char* arena_user_data = "retreat:arena";
+
+/// Robot @p id's decision reader, with the control QoS (every robot side has one).
+transport::Reader<wire::Decision> decision_reader(transport::Transport& transport, const std::string& prefix,
+                                                  wire::RobotId id);
+
+/// Robot @p id's two per-robot endpoints, with the control QoS: the writer of its proximity
+/// frames and the reader of its agent's decisions.
+struct Endpoints {
+  Endpoints(transport::Transport& transport, const std::string& prefix, wire::RobotId id);
+  transport::Writer<wire::ProximityFrame> frames;
+  transport::Reader<wire::Decision> decisions;
+  /// Both endpoints are matched with an agent.
+  bool matched() const { return frames.matched_count() > 0 && decisions.matched_count() > 0; }
+};
+
+/// A real robot's tracked pose in a mixed swarm (`<prefix>/robot_<id>/tracked_pose`, a Poses
+/// sample with arena_id = id and one RobotPose of robot id), with the control QoS: the robot's
+/// writer and the arena's reader.
+transport::Writer<wire::Poses> tracked_pose_writer(transport::Transport& transport, const std::string& prefix,
+                                                   wire::RobotId id);
+transport::Reader<wire::Poses> tracked_pose_reader(transport::Transport& transport, const std::string& prefix,
+                                                   wire::RobotId id);
+
+/// What a robot's side does with one decision (docs/protocol.md §6).
+enum class DecisionVerdict {
+  accepted,  ///< acted on (retreat is ORed into the robot's sticky retreat)
+  future,    ///< answers a tick not yet published: ignored, counted
+  stale,     ///< lockstep: answers an earlier tick, which is settled: ignored, counted
+};
+
+/// The verdict on decision @p d when the newest published tick is @p current. In real time a
+/// late decision (tick < current) is accepted; in lockstep only the current tick's answer is.
+DecisionVerdict judge(const wire::Decision& d, std::int64_t current, bool lockstep);
+
+}  // namespace retreat::robot
