@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
 # Creates the DDS Security PKI of one swarm (docs/security.md): a certificate authority, one
-# identity per robot agent, one for the arena and one for the bridge, a governance document and
+# identity per robot agent, one per robot's own link (driver_<id>: a real robot's frames or
+# tracked pose, and its decisions), one for the arena and one for the bridge, a governance document and
 # one permissions document per identity, both signed by the CA (S/MIME). Both DDS vendors read
 # the same files (dds.security: on, dds.security_dir: DIR).
 #
 # Usage:
 #   deploy/security/make-swarm-pki.sh --out DIR --robots IDS [--prefix P] [--domains A-B] [--days N]
 #   --out DIR       where the PKI goes (created if missing)
-#   --robots IDS    robot ids that get an agent identity: N (one robot) or A-B (A..B inclusive)
+#   --robots IDS    robot ids that get an agent and a driver identity: N (one robot) or A-B
 #   --prefix P      topic prefix of the swarm (dds.prefix, default retreat)
 #   --domains A-B   DDS domain ids the documents allow (default 0-230: Cyclone DDS 0.10 reads no
 #                   domain id above 230 in these documents)
@@ -17,7 +18,7 @@
 #   ca.pem, ca.key             the CA (identity CA and permissions CA); keep ca.key private
 #   governance.xml, .p7s       the swarm's rules (the .p7s is what the participants load)
 #   <identity>/cert.pem, key.pem, permissions.xml, permissions.p7s
-#       for the identities robot_<id>, arena and bridge
+#       for the identities robot_<id>, driver_<id>, arena and bridge
 #
 # Idempotent: an existing CA and existing identities are kept (an identity whose certificate
 # the CA does not verify is made again); a document is signed again only when its text changed.
@@ -143,6 +144,7 @@ governance=$(cat <<EOF
       <topic_access_rules>
 $(topic_rule "$prefix/robot_*/proximity")
 $(topic_rule "$prefix/robot_*/decision")
+$(topic_rule "$prefix/robot_*/tracked_pose")
 $(topic_rule "$prefix/agent_status")
 $(topic_rule "$prefix/arena_telemetry")
 $(topic_rule "$prefix/poses")
@@ -198,10 +200,14 @@ EOF
 for ((r = robot_lo; r <= robot_hi; ++r)); do
   identity "robot_$r"
   permissions "robot_$r" "$prefix/robot_$r/decision $prefix/agent_status" "$prefix/robot_$r/proximity"
+  # The real robot r's own link (docs/robot-guide.md): its frames or tracked pose, its decisions.
+  identity "driver_$r"
+  permissions "driver_$r" "$prefix/robot_$r/proximity $prefix/robot_$r/tracked_pose" "$prefix/robot_$r/decision"
 done
 identity arena
-permissions arena "$prefix/robot_*/proximity $prefix/arena_telemetry $prefix/poses" "$prefix/robot_*/decision"
+permissions arena "$prefix/robot_*/proximity $prefix/arena_telemetry $prefix/poses" \
+  "$prefix/robot_*/decision $prefix/robot_*/tracked_pose"
 identity bridge
 permissions bridge "" "$prefix/arena_telemetry $prefix/poses $prefix/agent_status"
 
-echo "$program: $out: CA, robot_$robot_lo..robot_$robot_hi, arena, bridge (prefix $prefix, domains $domain_lo-$domain_hi)"
+echo "$program: $out: CA, robot_$robot_lo..robot_$robot_hi, driver_$robot_lo..driver_$robot_hi, arena, bridge (prefix $prefix, domains $domain_lo-$domain_hi)"

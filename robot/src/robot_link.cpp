@@ -35,8 +35,8 @@ LinkOptions link_options(const scenario::Scenario& s, wire::RobotId robot_id) {
   options.robot_id = robot_id;
   options.vendor = std::string(name_of(s.dds.vendor));
   options.prefix = s.dds.prefix;
-  options.participant = scenario::participant_options(
-      s, "retreat-robot/robot_" + std::to_string(robot_id), arena_user_data, "arena");
+  options.participant = scenario::participant_options(s, "retreat-robot/robot_" + std::to_string(robot_id),
+                                                      arena_user_data, "driver_" + std::to_string(robot_id));
   options.lockstep = s.run.mode == scenario::RunMode::lockstep;
   options.tracked = robot_id < s.arena.external_robots;  // a real robot of a mixed swarm
   return options;

@@ -2,7 +2,8 @@
 // emulated real robots (arena.external_robots): two retreat-robot-example processes in tracked
 // mode (their own motion, clocks and loop jitter) and one robot driven by this test through the
 // C++ RobotLink, which also pauses (frozen), sends bad poses (dropped and counted) and finally
-// goes silent (lost). Every robot has an unmodified retreat-agent process. DDS domains 140, 141.
+// goes silent (lost). Every robot has an unmodified retreat-agent process. Also retreat-launch
+// with a real robot. DDS domains 140..142.
 
 #include <gtest/gtest.h>
 
@@ -217,6 +218,47 @@ TEST_P(MixedSwarm, RealAndSimulatedRobotsMeetTheRunCompletesAndBadPosesAreDroppe
   for (const auto& w : sources) {
     EXPECT_EQ(user_data[w.participant_guid], "retreat:agent:robot=2") << w.participant_guid;
   }
+}
+
+TEST(MixedSwarmLaunch, RetreatLaunchRunsASwarmWithARealRobotThatLeavesByItsOwnMotion) {
+  const auto vendors = transport::dds_vendors();
+  if (std::find(vendors.begin(), vendors.end(), "cyclonedds") == vendors.end()) GTEST_SKIP();
+  const std::string dir = ::testing::TempDir() + "/mixed_swarm_launch";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const auto scenario = dir + "/scenario.yaml";
+  // 6 robots on 1.92 m² (twice λ*), robot 0 real; L = 5 s with K_p = 1000: an agent whose
+  // estimate is above λ* at 5 s retreats then.
+  std::ofstream(scenario) << "name: mixed-launch-test\nseed: 5\n"
+                          << "arena: {shape: rectangle, width: 1.6, height: 1.2, robots_inside: 6, robots_waiting: 0, "
+                             "external_robots: 1}\n"
+                          << "agent: {L: 5, K_p: 1000, lambda_in: 0}\n"
+                          << "run: {mode: realtime, duration: 12}\n"
+                          << "dds: {vendor: cyclonedds, domain: 142}\n";
+  ChildProcess robot({RETREAT_ROBOT_EXAMPLE_BIN, "--robot-id", "0", "--scenario", scenario, "--rate", "20",
+                      "--orbit", "0.3", "--speed", "0.2", "--exit-radius", "1.2", "--max-time", "40"},
+                     dir + "/robot.log");
+  const auto [code, output] = testing::run_to_exit(
+      {RETREAT_LAUNCH_BIN, scenario, "--out", dir + "/run", "--domain", "142", "--no-bridge"}, dir + "/launch.log");
+  ASSERT_EQ(code, 0) << output;
+  robot.stop();
+  const auto summary = nlohmann::json::parse(std::ifstream(dir + "/run/summary.json"));
+  EXPECT_EQ(summary.at("agents").at("started"), 6) << "the real robot's agent too";
+  EXPECT_GT(summary.at("external").at("poses_accepted").get<std::uint64_t>(), 0u);
+  EXPECT_EQ(summary.at("external").at("lost"), 0);
+  std::ifstream agents_csv(dir + "/run/agents.csv");
+  std::string header;
+  std::string row;
+  std::getline(agents_csv, header);
+  std::getline(agents_csv, row);  // robot 0
+  std::vector<std::string> cells;
+  std::stringstream cells_in(row);
+  for (std::string cell; std::getline(cells_in, cell, ',');) cells.push_back(cell);
+  ASSERT_EQ(cells.at(0), "0");
+  if (cells.at(4) == "1") {
+    EXPECT_NE(cells.at(7), "-1") << "told to retreat, the real robot drove out and departed";
+  }
+  fs::remove_all(dir);
 }
 
 INSTANTIATE_TEST_SUITE_P(Vendors, MixedSwarm,

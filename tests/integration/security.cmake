@@ -1,5 +1,6 @@
 # DDS Security tests (docs/security.md): the PKI script, secure swarms of real processes, what
-# the permissions refuse. DDS domain ids 65..71 (see the file). About 1 minute.
+# the permissions refuse, a real robot's link in a secure swarm. DDS domain ids 65..72 (see the
+# file). About 1 minute.
 if(RETREAT_WITH_FASTDDS OR RETREAT_WITH_CYCLONEDDS)
   retreat_test(security_test SOURCES ${CMAKE_CURRENT_LIST_DIR}/security_test.cpp
     DEPS retreat::transports retreat::testing nlohmann_json::nlohmann_json
@@ -14,6 +15,8 @@ if(RETREAT_WITH_FASTDDS OR RETREAT_WITH_CYCLONEDDS)
     RETREAT_SHARED_PKI="${shared_pki}"
     RETREAT_LAUNCH_BIN="$<TARGET_FILE:retreat-launch>"
     RETREAT_SCENARIOS="${PROJECT_SOURCE_DIR}/deploy/scenarios"
-    RETREAT_PKI_SCRIPT="${PROJECT_SOURCE_DIR}/deploy/security/make-swarm-pki.sh")
-  add_dependencies(security_test retreat-launch)
+    RETREAT_PKI_SCRIPT="${PROJECT_SOURCE_DIR}/deploy/security/make-swarm-pki.sh"
+    RETREAT_AGENT_BIN="$<TARGET_FILE:retreat-agent>"
+    RETREAT_ROBOT_EXAMPLE_BIN="$<TARGET_FILE:retreat-robot-example>")
+  add_dependencies(security_test retreat-launch retreat-agent retreat-robot-example)
 endif()

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <stdexcept>
 #include <thread>
 
@@ -298,6 +299,41 @@ TEST(SecureLaunch, RefusesMixedVendorsWithOneLine) {
   const auto log = log_of(dir);
   EXPECT_EQ(std::count(log.begin(), log.end(), '\n'), 1) << log;
   EXPECT_NE(log.find("--dds mixed"), std::string::npos) << log;
+}
+
+// ---- a real robot's link -----------------------------------------------------------------------
+
+TEST(SecureRobotLink, TheExampleRobotJoinsASecureSwarmWithTheArenaIdentityAndIsAnswered) {
+  // The robot link takes the swarm PKI's `arena` identity (docs/robot-guide.md): its permissions
+  // grant writing robot 3's frames and reading its decisions. Lockstep, so that every frame is
+  // answered by the agent holding robot 3's identity. Domain 72, one vendor after the other.
+  const auto pki = shared_pki();
+  for (const std::string vendor : {"fastdds", "cyclonedds"}) {
+    if (!built(vendor)) continue;
+    SCOPED_TRACE(vendor);
+    const auto dir = fresh_dir("security-robot-link-" + vendor);
+    const auto scenario = dir + "/scenario.yaml";
+    std::ofstream(scenario) << "name: secure-robot-link\nseed: 11\n"
+                            << "agent: {L: 3, dt: 0.1, K_p: 0.5, lambda_in: 0}\n"
+                            << "run: {mode: lockstep, startup_timeout: 60}\n"
+                            << "dds: {vendor: " << vendor << ", domain: 72, security: on, security_dir: " << pki << "}\n";
+    testing::ChildProcess agent({RETREAT_AGENT_BIN, "--robot-id", "3", "--scenario", scenario}, dir + "/agent.log");
+    // Without an identity the same robot never reaches its agent: security is on.
+    const auto [plain, refused] = testing::run_to_exit(
+        {RETREAT_ROBOT_EXAMPLE_BIN, "--robot-id", "3", "--dds", vendor, "--domain", "72", "--lockstep",
+         "--agent-timeout", "3"},
+        dir + "/plain.log");
+    EXPECT_EQ(plain, 1) << refused;
+    EXPECT_NE(refused.find("no agent matched"), std::string::npos) << refused;
+    const auto [code, output] = testing::run_to_exit(
+        {RETREAT_ROBOT_EXAMPLE_BIN, "--robot-id", "3", "--scenario", scenario, "--onset-rate", "6", "--seed", "2"},
+        dir + "/robot.log");
+    EXPECT_EQ(code, 0) << output << testing::read_file(dir + "/agent.log");
+    EXPECT_NE(output.find("departed"), std::string::npos) << output;
+    const auto agent_code = agent.wait_for(testing::hang_ceiling);
+    ASSERT_TRUE(agent_code.has_value()) << "the agent did not exit after its robot departed";
+    EXPECT_EQ(*agent_code, 0);
+  }
 }
 
 }  // namespace

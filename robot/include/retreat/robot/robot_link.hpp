@@ -41,7 +41,8 @@ struct LinkOptions {
 };
 
 /// A robot's options from the swarm's scenario: dds.vendor, dds.domain, dds.prefix, dds.profile,
-/// DDS Security (the PKI's `arena` identity: a driver plays the arena's part) and run.mode.
+/// DDS Security (the PKI's `driver_<i>` identity, deploy/security/make-swarm-pki.sh: robot i's
+/// frames and tracked pose, its decisions, nothing else), run.mode and whether robot i is tracked.
 /// @throws std::invalid_argument when the scenario's vendor is `inmemory` (a robot needs DDS).
 LinkOptions link_options(const scenario::Scenario& scenario, wire::RobotId robot_id);
 
