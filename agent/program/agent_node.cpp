@@ -1,5 +1,6 @@
 #include "retreat/agent/agent_node.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -60,8 +61,11 @@ bool AgentNode::arena_seen() {
   if (now < next_arena_check_) return false;
   next_arena_check_ = now + std::chrono::seconds(1);
   arena_seen_ = counters_.frames_received > 0 || frames_.matched_count() > 0 || decisions_.matched_count() > 0;
-  for (const auto& p : arena_seen_ ? std::vector<transport::ParticipantInfo>{} : transport_.participants()) {
-    arena_seen_ = arena_seen_ || p.user_data.rfind("retreat:arena", 0) == 0;
+  if (!arena_seen_) {
+    const auto participants = transport_.participants();
+    arena_seen_ = std::any_of(participants.begin(), participants.end(), [](const transport::ParticipantInfo& p) {
+      return p.user_data.rfind(wire::arena_user_data, 0) == 0;
+    });
   }
   return arena_seen_;
 }

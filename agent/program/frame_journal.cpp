@@ -45,7 +45,7 @@ std::string parse_line(const std::string& line, wire::RobotId robot, wire::Proxi
   unsigned contact = 0;
   f.robot_id = robot;
   if (!parse_field(fields[0], f.tick) || f.tick < 0) return "tick '" + std::string(fields[0]) + "' is not a whole number >= 0";
-  // from_chars for double is in libstdc++ 11+; strtod is fine for what this program wrote.
+  // strtod, not from_chars: the libc++ of the portability build has no from_chars for double.
   const std::string time_text(fields[1]);
   char* end = nullptr;
   f.time = std::strtod(time_text.c_str(), &end);

@@ -22,6 +22,7 @@
 #include "retreat/arena/command_line.hpp"
 #include "retreat/scenario/program_options.hpp"
 #include "retreat/transport/factory.hpp"
+#include "retreat/wire/topics.hpp"
 
 int main(int argc, char** argv) {
   using namespace retreat;
@@ -43,7 +44,7 @@ int main(int argc, char** argv) {
     std::unique_ptr<arena::RunRecorder> recorder;
     if (!out_dir.empty()) recorder = std::make_unique<arena::RunRecorder>(out_dir, s, scenario::dump(s), resume);
     auto transport = transport::make_transport(
-        retreat::name_of(s.dds.vendor), scenario::participant_options(s, "retreat-arena", "retreat:arena", "arena"));
+        retreat::name_of(s.dds.vendor), scenario::participant_options(s, "retreat-arena", wire::arena_user_data, "arena"));
     arena::ArenaNode node(s, *transport, recorder.get());
     if (resume) {
       node.replay(recorder->resumable_tick(), recorder->journal());

@@ -8,6 +8,7 @@
 
 #include "retreat/agent/agent_node.hpp"
 #include "retreat/transport/inmemory.hpp"
+#include "retreat/wire/topics.hpp"
 
 namespace retreat::launch {
 namespace {
@@ -33,7 +34,7 @@ InMemoryRun run_in_memory(const scenario::Scenario& s, arena::RunRecorder* recor
     return transport::make_inmemory_transport(bus, o);
   };
 
-  auto arena_transport = participant("retreat-arena", "retreat:arena");
+  auto arena_transport = participant("retreat-arena", wire::arena_user_data);
   arena::ArenaNode arena(s, *arena_transport, recorder);
 
   // By robot id; empty once the robot has departed. Ids only grow and are dense, so the robots

@@ -20,7 +20,7 @@ namespace {
 LinkOptions completed(LinkOptions options) {
   const auto robot = "robot_" + std::to_string(options.robot_id);
   if (options.participant.name.empty()) options.participant.name = "retreat-robot/" + robot;
-  if (options.participant.user_data.empty()) options.participant.user_data = arena_user_data;
+  if (options.participant.user_data.empty()) options.participant.user_data = wire::arena_user_data;
   validate(options);
   return options;
 }
@@ -36,7 +36,7 @@ LinkOptions link_options(const scenario::Scenario& s, wire::RobotId robot_id) {
   options.vendor = std::string(name_of(s.dds.vendor));
   options.prefix = s.dds.prefix;
   options.participant = scenario::participant_options(s, "retreat-robot/robot_" + std::to_string(robot_id),
-                                                      arena_user_data, "driver_" + std::to_string(robot_id));
+                                                      wire::arena_user_data, "driver_" + std::to_string(robot_id));
   options.lockstep = s.run.mode == scenario::RunMode::lockstep;
   options.tracked = robot_id < s.arena.external_robots;  // a real robot of a mixed swarm
   return options;
@@ -92,36 +92,35 @@ bool RobotLink::wait_for_agent(std::chrono::nanoseconds timeout) {
   return true;
 }
 
-bool RobotLink::refuse(std::string reason) {
+std::nullopt_t RobotLink::refuse(std::string reason) {
   ++counters_.reports_refused;
   refused_reason_ = std::move(reason);
-  return false;
+  return std::nullopt;
+}
+
+std::string RobotLink::clock_refusal(double time, const std::optional<double>& previous, const char* what) {
+  if (!std::isfinite(time) || time < 0.0) return "time " + std::to_string(time) + " s refused: must be finite and >= 0";
+  if (previous && time < *previous) {
+    return "time " + std::to_string(time) + " s refused: earlier than the previous " + what + "'s " +
+           std::to_string(*previous) + " s (the clock went back)";
+  }
+  return "";
 }
 
 std::optional<std::int64_t> RobotLink::report(double time, wire::Phase phase, bool in_contact,
                                               std::uint32_t new_onsets) {
   const auto onsets = static_cast<std::uint64_t>(pending_onsets_) + new_onsets;
   pending_onsets_ = static_cast<std::uint32_t>(std::min<std::uint64_t>(onsets, UINT32_MAX));
-  if (!std::isfinite(time) || time < 0.0) {
-    refuse("time " + std::to_string(time) + " s refused: must be finite and >= 0");
-    return std::nullopt;
-  }
-  if (last_frame_ && time < last_frame_->time) {
-    refuse("time " + std::to_string(time) + " s refused: earlier than the previous report's " +
-           std::to_string(last_frame_->time) + " s (the clock went back)");
-    return std::nullopt;
-  }
+  const auto previous = last_frame_ ? std::optional(last_frame_->time) : std::nullopt;
+  if (auto why = clock_refusal(time, previous, "report"); !why.empty()) return refuse(std::move(why));
   if (static_cast<std::uint8_t>(phase) >= wire::phase_count) {
-    refuse("phase " + std::to_string(static_cast<unsigned>(phase)) + " refused: must be 0..3");
-    return std::nullopt;
+    return refuse("phase " + std::to_string(static_cast<unsigned>(phase)) + " refused: must be 0..3");
   }
   if (options_.tracked) {
-    refuse("report refused: a tracked robot's frames come from the arena (use report_pose)");
-    return std::nullopt;
+    return refuse("report refused: a tracked robot's frames come from the arena (use report_pose)");
   }
   if (last_frame_ && last_frame_->phase == wire::Phase::departed) {
-    refuse("report refused: the robot has departed (its agent has stopped)");
-    return std::nullopt;
+    return refuse("report refused: the robot has departed (its agent has stopped)");
   }
   const std::int64_t tick = last_frame_ ? last_frame_->tick + 1 : 0;
   last_frame_ = wire::ProximityFrame{options_.robot_id, tick, time, phase, in_contact, pending_onsets_};
@@ -137,21 +136,12 @@ std::optional<std::int64_t> RobotLink::report(double time, wire::Phase phase, bo
 
 std::optional<std::int64_t> RobotLink::report_pose(double time, double x, double y, double theta) {
   if (!options_.tracked) {
-    refuse("pose refused: only a tracked robot (LinkOptions::tracked) reports its pose");
-    return std::nullopt;
+    return refuse("pose refused: only a tracked robot (LinkOptions::tracked) reports its pose");
   }
-  if (!std::isfinite(time) || time < 0.0) {
-    refuse("time " + std::to_string(time) + " s refused: must be finite and >= 0");
-    return std::nullopt;
-  }
-  if (last_pose_ && time < last_pose_->time) {
-    refuse("time " + std::to_string(time) + " s refused: earlier than the previous pose's " +
-           std::to_string(last_pose_->time) + " s (the clock went back)");
-    return std::nullopt;
-  }
+  const auto previous = last_pose_ ? std::optional(last_pose_->time) : std::nullopt;
+  if (auto why = clock_refusal(time, previous, "pose"); !why.empty()) return refuse(std::move(why));
   if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(theta)) {
-    refuse("pose refused: x, y and theta must be finite");
-    return std::nullopt;
+    return refuse("pose refused: x, y and theta must be finite");
   }
   const std::int64_t tick = last_pose_ ? last_pose_->tick + 1 : 0;
   wire::Poses pose;

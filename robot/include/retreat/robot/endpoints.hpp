@@ -17,10 +17,6 @@ namespace retreat::robot {
 /// (a frame written while the two sides were still discovering each other may never arrive).
 inline constexpr std::chrono::milliseconds resend_interval{200};
 
-/// The participant user data of whoever plays the arena's part for a robot (docs/protocol.md §9;
-/// informational: nothing in retreat acts on it).
-inline constexpr const char* arena_user_data = "retreat:arena";
-
 /// Robot @p id's decision reader, with the control QoS (every robot side has one).
 transport::Reader<wire::Decision> decision_reader(transport::Transport& transport, const std::string& prefix,
                                                   wire::RobotId id);

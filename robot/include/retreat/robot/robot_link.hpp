@@ -121,7 +121,11 @@ class RobotLink {
   const LinkOptions& options() const { return options_; }
 
  private:
-  bool refuse(std::string reason);
+  /// Counts a refused report or pose and keeps @p reason for refused_reason().
+  std::nullopt_t refuse(std::string reason);
+  /// Why @p time cannot follow @p previous, the time of the previous @p what ("report", "pose"):
+  /// not finite, negative, or going back; "" when it can.
+  static std::string clock_refusal(double time, const std::optional<double>& previous, const char* what);
 
   LinkOptions options_;
   std::unique_ptr<transport::Transport> transport_;

@@ -13,6 +13,10 @@ namespace retreat::wire {
 /// Default topic prefix.
 inline constexpr const char* default_prefix = "retreat";
 
+/// The participant user data of the arena, or of whoever plays its part for a robot (a robot's
+/// link): docs/protocol.md §9. Informational; an agent takes it as "the arena has appeared".
+inline constexpr const char* arena_user_data = "retreat:arena";
+
 std::string proximity_topic(const std::string& prefix, RobotId robot);  ///< <p>/robot_<id>/proximity
 std::string decision_topic(const std::string& prefix, RobotId robot);   ///< <p>/robot_<id>/decision
 /// <p>/robot_<id>/tracked_pose: a real robot's pose in a mixed swarm (a Poses sample with
