@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include "retreat/testing/domains.hpp"
 #include "retreat/testing/process.hpp"
 #include "retreat/transport/factory.hpp"
 
@@ -40,11 +41,11 @@ void exchange(const Pair& pair, int domain) {
 }
 
 TEST(CrossVendor, FastDdsWriterToCycloneReaderDeliversEveryKindIdentically) {
-  exchange({"fastdds", "cyclonedds"}, 40);
+  exchange({"fastdds", "cyclonedds"}, retreat::testing::domains::cross_vendor.at(0));
 }
 
 TEST(CrossVendor, CycloneWriterToFastDdsReaderDeliversEveryKindIdentically) {
-  exchange({"cyclonedds", "fastdds"}, 41);
+  exchange({"cyclonedds", "fastdds"}, retreat::testing::domains::cross_vendor.at(1));
 }
 
 }  // namespace

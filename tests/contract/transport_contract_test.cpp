@@ -10,6 +10,7 @@
 #include <limits>
 #include <map>
 
+#include "retreat/testing/domains.hpp"
 #include "retreat/testing/process.hpp"
 #include "retreat/testing/samples.hpp"
 #include "retreat/transport/factory.hpp"
@@ -28,12 +29,8 @@ std::string test_name() {
 }
 
 int test_domain() {
-  // Domain ids of the test suites, all below 102: from domain 102 on, the RTPS well-known ports
-  // (7400 + 250·domain + ...) fall into Linux's ephemeral port range (32768..60999), where any
-  // outgoing socket may take them. Contract 10..39, cross-vendor 40..41, DDS profiles 42..49,
-  // launcher 50..64, agent and arena programs 80..97, bridge 98..100; the multi-host tests run
-  // in their own network namespaces (150..154).
-  return testing::domain_for_test(test_name(), 10, 30);
+  // Every suite's domain ids are in retreat/testing/domains.hpp (why: see there).
+  return testing::domain_for_test(test_name(), testing::domains::contract.first, testing::domains::contract.count);
 }
 
 std::string test_prefix() {

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "retreat/agent/controller_registry.hpp"
+#include "retreat/testing/domains.hpp"
 #include "retreat/testing/process.hpp"
 
 namespace {
@@ -25,7 +26,7 @@ using nlohmann::json;
 using namespace std::chrono_literals;
 
 const std::string program = RETREAT_EXPERIMENT_BIN;
-constexpr int process_domain = 89;
+constexpr int process_domain = retreat::testing::domains::experiment.at(0);
 
 std::string fresh_dir(const std::string& name) {
   const auto dir = fs::temp_directory_path() / ("retreat-experiment-test-" + name);

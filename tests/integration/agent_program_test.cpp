@@ -15,6 +15,7 @@
 #include "retreat/agent/retreat_agent.hpp"
 #include "retreat/core/seed.hpp"
 #include "retreat/scenario/scenario.hpp"
+#include "retreat/testing/domains.hpp"
 #include "retreat/testing/process.hpp"
 #include "retreat/transport/factory.hpp"
 
@@ -34,7 +35,7 @@ std::string tag_of_test() {
 
 struct Vendor {
   const char* name;
-  int domain_base;  // program tests use domains 80..109
+  int domain_base;  // the first of the vendor's four ids (agent_program block, domains.hpp)
 };
 
 class AgentProgram : public ::testing::TestWithParam<Vendor> {
@@ -238,7 +239,7 @@ TEST_P(AgentProgram, DropsAndCountsFramesForAnotherRobotBackwardsOrDuplicatedNev
 void PrintTo(const Vendor& v, std::ostream* os) { *os << v.name; }
 
 INSTANTIATE_TEST_SUITE_P(Vendors, AgentProgram,
-                         ::testing::Values(Vendor{"fastdds", 80}, Vendor{"cyclonedds", 85}),
+                         ::testing::Values(Vendor{"fastdds", testing::domains::agent_program.at(0)}, Vendor{"cyclonedds", testing::domains::agent_program.at(5)}),
                          [](const auto& param_info) { return std::string(param_info.param.name); });
 
 TEST(AgentProgramBadInput, EachBadValueGivesOneLineNamingItAndExitCodeTwo) {

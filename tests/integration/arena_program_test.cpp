@@ -9,6 +9,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "retreat/testing/domains.hpp"
 #include "retreat/testing/process.hpp"
 #include "retreat/transport/factory.hpp"
 
@@ -149,7 +150,7 @@ TEST(ArenaProgram, ARealTimeRunPacesTicksByTheClockAndCompletes) {
 TEST(ArenaProgram, DecisionsForUnknownRobotsOrPastTicksAreDroppedAndCounted) {
   const std::string vendor = built("cyclonedds") ? "cyclonedds" : "fastdds";
   const auto scenario = small_scenario(1000);
-  const int domain = 96;
+  const int domain = testing::domains::arena_program.at(0);
   auto s = start(scenario, vendor, std::vector<std::string>(4, vendor), domain, tmp + "/run_rogue");
   // A rogue participant writes on robot 0's decision topic: a robot id that is not the topic's,
   // and a decision for a tick long past.

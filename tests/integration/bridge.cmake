@@ -1,6 +1,6 @@
 # retreat-bridge tests (bridge/): the program with a scripted DDS source, bad input and bad
 # HTTP requests, a late start against a real swarm, and headless Chromium on the dashboard.
-# DDS domain ids 200..229 only (200 API, 201 late start, 202 browser). All HTTP on 127.0.0.1.
+# DDS domain ids: the bridge block of tests/support/include/retreat/testing/domains.hpp. All HTTP on 127.0.0.1.
 # Included from tests/integration/CMakeLists.txt. Under 90 s in total.
 if(RETREAT_WITH_FASTDDS OR RETREAT_WITH_CYCLONEDDS)
   retreat_test(bridge_test

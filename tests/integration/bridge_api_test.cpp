@@ -13,6 +13,7 @@
 #include "bridge_support.hpp"
 #include "prometheus_check.hpp"
 #include "retreat/transport/factory.hpp"
+#include "retreat/testing/domains.hpp"
 
 namespace retreat {
 namespace {
@@ -23,7 +24,7 @@ using testing::eventually;
 namespace fs = std::filesystem;
 namespace tb = testing::bridge;
 
-constexpr int api_domain = 98;
+constexpr int api_domain = testing::domains::bridge.at(0);
 
 std::string vendor() {
   const auto v = transport::dds_vendors();

@@ -16,6 +16,7 @@
 #include "bridge_support.hpp"
 #include "retreat/report/figures.hpp"
 #include "retreat/transport/factory.hpp"
+#include "retreat/testing/domains.hpp"
 
 namespace retreat {
 namespace {
@@ -74,7 +75,7 @@ class Watch {
 
 TEST(BridgeSwarm, ABridgeStartedAfterTheArenaShowsTheCurrentPopulation) {
   const std::string vendor = built("cyclonedds") ? "cyclonedds" : "fastdds";
-  const int domain = 99;
+  const int domain = testing::domains::bridge.at(1);
   const std::string dir = ::testing::TempDir() + "/bridge_late";
   fs::remove_all(dir);
   fs::create_directories(dir);
@@ -172,7 +173,7 @@ TEST(BridgeBrowser, TheFiguresPageDrawsAHeatMapAsColouredCells) {
 TEST(BridgeBrowser, ChromiumShowsTheLiveSwarmAndTheReport) {
   if (!tb::Browser::available()) GTEST_SKIP() << "no chromium (deploy/install-deps.sh installs it)";
   const std::string vendor = built("fastdds") ? "fastdds" : "cyclonedds";
-  const int domain = 100;
+  const int domain = testing::domains::bridge.at(2);
   const std::string dir = ::testing::TempDir() + "/bridge_browser";
   fs::remove_all(dir);
   fs::create_directories(dir);

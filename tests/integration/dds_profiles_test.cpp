@@ -6,8 +6,8 @@
 // samples prove delivery). The loopback profiles of the two vendors also work together in one
 // swarm, and in the stars no agent discovers another agent.
 //
-// Each test has its own DDS domain id in 42..49 (below 102: see transport_contract_test.cpp). Processes are stopped by PID. DDS stays on
-// loopback: the last test checks that every shipped single-host profile pins it there.
+// Each test has its own DDS domain id, from its block in retreat/testing/domains.hpp. Processes
+// are stopped by PID. DDS stays on loopback: the last test checks that every shipped single-host profile pins it there.
 
 #include <gtest/gtest.h>
 
@@ -20,6 +20,7 @@
 #include <regex>
 #include <set>
 
+#include "retreat/testing/domains.hpp"
 #include "retreat/testing/process.hpp"
 #include "retreat/transport/factory.hpp"
 
@@ -31,6 +32,9 @@ using retreat::testing::ChildProcess;
 using retreat::testing::read_file;
 
 const std::string profiles = std::string(RETREAT_SOURCE_DIR) + "/deploy/dds/";
+
+/// The i-th domain id of this suite's block.
+constexpr int domain(int i) { return retreat::testing::domains::dds_profiles.at(i); }
 
 bool built(const std::string& vendor) {
   const auto vendors = retreat::transport::dds_vendors();
@@ -159,14 +163,14 @@ void expect_star(const SwarmRun& run) {
 TEST(FastDdsLoopbackProfile, AHubAndThreeAgentsMatchAndExchangeSamples) {
   REQUIRE_VENDOR("fastdds");
   const auto p = profiles + "fastdds-loopback.xml";
-  const auto run = run_swarm("fastdds", p, p, 42, 3);
+  const auto run = run_swarm("fastdds", p, p, domain(0), 3);
   expect_everyone_matched_and_answered(run, 3);
 }
 
 TEST(CycloneLoopbackProfile, AHubAndThreeAgentsMatchAndExchangeSamples) {
   REQUIRE_VENDOR("cyclonedds");
   const auto p = profiles + "cyclonedds-loopback.xml";
-  const auto run = run_swarm("cyclonedds", p, p, 43, 3);
+  const auto run = run_swarm("cyclonedds", p, p, domain(1), 3);
   expect_everyone_matched_and_answered(run, 3);
 }
 
@@ -175,7 +179,7 @@ TEST(LoopbackProfiles, AFastDdsHubAndCycloneAgentsFindEachOther) {
   REQUIRE_VENDOR("cyclonedds");
   // A mixed swarm: each process uses its own vendor's loopback profile.
   const auto run = run_swarm("fastdds", profiles + "fastdds-loopback.xml", "cyclonedds",
-                             profiles + "cyclonedds-loopback.xml", 48, 3);
+                             profiles + "cyclonedds-loopback.xml", domain(6), 3);
   expect_everyone_matched_and_answered(run, 3);
 }
 
@@ -183,7 +187,7 @@ TEST(LoopbackProfiles, ACycloneHubAndFastDdsAgentsFindEachOther) {
   REQUIRE_VENDOR("fastdds");
   REQUIRE_VENDOR("cyclonedds");
   const auto run = run_swarm("cyclonedds", profiles + "cyclonedds-loopback.xml", "fastdds",
-                             profiles + "fastdds-loopback.xml", 49, 3);
+                             profiles + "fastdds-loopback.xml", domain(7), 3);
   expect_everyone_matched_and_answered(run, 3);
 }
 
@@ -203,16 +207,16 @@ TEST(FastDdsDiscoveryServerStar, ThirtyClientsMatchTheHubAndNeverDiscoverEachOth
       write_file(dir, "hub.xml", replace_all(hub_text, "<port>11811</port>", "<port>7312</port>"));
   const auto client = write_file(
       dir, "client.xml", replace_all(client_text, "<port>11811</port>", "<port>7312</port>"));
-  const auto run = run_swarm("fastdds", hub, client, 44, 30);
+  const auto run = run_swarm("fastdds", hub, client, domain(2), 30);
   expect_everyone_matched_and_answered(run, 30);
   expect_star(run);
 }
 
 TEST(CycloneStar, ThirtyAgentsMatchTheHubAndNeverDiscoverEachOther) {
   REQUIRE_VENDOR("cyclonedds");
-  // The hub's port follows from the domain id (7410 + 250 * 45): the files are used as shipped.
+  // The hub's port follows from the domain id (7410 + 250 * domain): the files are used as shipped.
   const auto run = run_swarm("cyclonedds", profiles + "cyclonedds-star-hub.xml",
-                             profiles + "cyclonedds-star-agent.xml", 45, 30);
+                             profiles + "cyclonedds-star-agent.xml", domain(3), 30);
   expect_everyone_matched_and_answered(run, 30);
   expect_star(run);
 }
@@ -231,7 +235,7 @@ TEST(FastDdsMultihostProfile, FilledInWithLoopbackAddressesMatchesAndExchangesSa
   ASSERT_EQ(elements.find('@'), std::string::npos)
       << "a placeholder the documentation does not name";
   const auto filled = write_file(test_dir("_profiles"), "fastdds-multihost-filled.xml", text);
-  const auto run = run_swarm("fastdds", filled, filled, 46, 2);
+  const auto run = run_swarm("fastdds", filled, filled, domain(4), 2);
   expect_everyone_matched_and_answered(run, 2);
 }
 
@@ -240,7 +244,7 @@ TEST(CycloneMultihostProfile, FilledInFromTheEnvironmentMatchesAndExchangesSampl
   // As documented in the file for a network without multicast: unicast discovery with
   // participant indices, the peer being this host.
   const auto p = profiles + "cyclonedds-multihost.xml";
-  const auto run = run_swarm("cyclonedds", p, p, 47, 2,
+  const auto run = run_swarm("cyclonedds", p, p, domain(5), 2,
                              {"RETREAT_DDS_INTERFACE=lo", "RETREAT_DDS_MULTICAST=false",
                               "RETREAT_DDS_PARTICIPANT_INDEX=auto", "RETREAT_DDS_PEERS=127.0.0.1"});
   expect_everyone_matched_and_answered(run, 2);
@@ -250,7 +254,7 @@ TEST(CycloneMultihostProfile, WithoutAnInterfaceIsRefusedRatherThanGuessingOne) 
   REQUIRE_VENDOR("cyclonedds");
   ::unsetenv("RETREAT_DDS_INTERFACE");
   retreat::transport::ParticipantOptions options;
-  options.domain_id = 49;  // only a profile load, nothing is published
+  options.domain_id = domain(7);  // only a profile load that fails: no participant
   options.profile = profiles + "cyclonedds-multihost.xml";
   EXPECT_THROW(retreat::transport::make_transport("cyclonedds", options), std::invalid_argument);
 }
@@ -262,7 +266,7 @@ TEST(FastDdsProfileFiles, ASecondProfileFileInOneProcessIsRefusedNotSilentlyIgno
   // Fast DDS keeps the first "retreat_participant" it loaded and only logs the clash; the
   // adapter turns that into an error instead of running with the wrong settings.
   retreat::transport::ParticipantOptions options;
-  options.domain_id = 127;
+  options.domain_id = retreat::testing::domains::dds_profile_files.at(0);
   options.profile = profiles + "fastdds-loopback.xml";
   auto first = retreat::transport::make_transport("fastdds", options);
   auto again = retreat::transport::make_transport("fastdds", options);  // same file: fine

@@ -14,18 +14,19 @@
 #include <fstream>
 #include <sstream>
 
+#include "retreat/testing/domains.hpp"
 #include "launch_support.hpp"
 
 namespace retreat::launch_test {
 namespace {
 
-constexpr int domain_kill_bridge = 73;
-constexpr int domain_kill_realtime_arena = 74;
-constexpr int domain_resume_lockstep_arena = 75;
-constexpr int domain_launcher_resumes_lockstep_fastdds = 76;
-constexpr int domain_launcher_resumes_lockstep_cyclonedds = 79;
-constexpr int domain_shm_stale = 77;
-constexpr int domain_shm_full = 78;
+constexpr int domain_kill_bridge = testing::domains::faults.at(0);
+constexpr int domain_kill_realtime_arena = testing::domains::faults.at(1);
+constexpr int domain_resume_lockstep_arena = testing::domains::faults.at(2);
+constexpr int domain_launcher_resumes_lockstep_fastdds = testing::domains::faults.at(3);
+constexpr int domain_launcher_resumes_lockstep_cyclonedds = testing::domains::faults.at(6);
+constexpr int domain_shm_stale = testing::domains::faults.at(4);
+constexpr int domain_shm_full = testing::domains::faults.at(5);
 
 /// The file's complete lines (a half-written last line is left out).
 std::vector<std::string> lines_of(const std::string& path) {

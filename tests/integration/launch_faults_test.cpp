@@ -9,15 +9,16 @@
 #include <set>
 #include <thread>
 
+#include "retreat/testing/domains.hpp"
 #include "launch_support.hpp"
 
 namespace retreat::launch_test {
 namespace {
 
 // Domain ids of this file: 54, 55, 57.
-constexpr int domain_kill_agents = 54;
-constexpr int domain_kill_arena = 55;
-constexpr int domain_stop_launcher = 57;
+constexpr int domain_kill_agents = testing::domains::launch.at(4);
+constexpr int domain_kill_arena = testing::domains::launch.at(5);
+constexpr int domain_stop_launcher = testing::domains::launch.at(7);
 
 /// Waits for `<out>/processes.json` (written once every child has started).
 json wait_for_processes(const std::string& out) {

@@ -8,6 +8,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include "retreat/testing/domains.hpp"
 #include "launch_support.hpp"
 
 namespace retreat::launch_test {
@@ -15,7 +16,7 @@ namespace {
 
 // Domain ids of this file: 59 (held by the test itself); 64 named in refused launches (never
 // joined: the launcher refuses before it takes a domain).
-constexpr int domain_held = 59;
+constexpr int domain_held = testing::domains::launch.at(9);
 
 void expect_refused(const std::string& name, const std::vector<std::string>& args) {
   const auto dir = fresh_dir("input-" + name);

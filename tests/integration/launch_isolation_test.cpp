@@ -24,6 +24,7 @@
 #include <set>
 #include <thread>
 
+#include "retreat/testing/domains.hpp"
 #include "launch_support.hpp"
 
 namespace retreat::launch_test {
@@ -261,7 +262,7 @@ TEST_P(LaunchIsolation, EveryAgentIsMatchedOnlyWithItsOwnRobotsTopicsInARunningS
 }
 
 INSTANTIATE_TEST_SUITE_P(Observer, LaunchIsolation,
-                         ::testing::Values(ObserverCase{"fastdds", 56}, ObserverCase{"cyclonedds", 60}),
+                         ::testing::Values(ObserverCase{"fastdds", testing::domains::launch.at(6)}, ObserverCase{"cyclonedds", testing::domains::launch.at(10)}),
                          [](const auto& test) { return std::string(test.param.vendor); });
 
 }  // namespace

@@ -11,21 +11,22 @@
 #include <set>
 #include <string>
 
+#include "retreat/testing/domains.hpp"
 #include "launch_support.hpp"
 
 namespace retreat::launch_test {
 namespace {
 
 // Domain ids of this file: 50..53, 58, 61, 62, 63.
-constexpr int domain_fastdds = 50;
-constexpr int domain_cyclonedds = 51;
-constexpr int domain_mixed = 52;
-constexpr int domain_kinetic = 53;
-constexpr int domain_realtime = 58;
-constexpr int domain_endless = 61;
-constexpr int domain_bridge = 62;
-constexpr int domain_seed = 63;
-constexpr int domain_cyclone_star = 64;
+constexpr int domain_fastdds = testing::domains::launch.at(0);
+constexpr int domain_cyclonedds = testing::domains::launch.at(1);
+constexpr int domain_mixed = testing::domains::launch.at(2);
+constexpr int domain_kinetic = testing::domains::launch.at(3);
+constexpr int domain_realtime = testing::domains::launch.at(8);
+constexpr int domain_endless = testing::domains::launch.at(11);
+constexpr int domain_bridge = testing::domains::launch.at(12);
+constexpr int domain_seed = testing::domains::launch.at(13);
+constexpr int domain_cyclone_star = testing::domains::launch.at(14);
 
 std::vector<std::string> args(std::vector<std::string> head, const std::vector<std::string>& tail) {
   head.insert(head.end(), tail.begin(), tail.end());

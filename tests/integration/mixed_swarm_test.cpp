@@ -3,7 +3,7 @@
 // mode (their own motion, clocks and loop jitter) and one robot driven by this test through the
 // C++ RobotLink, which also pauses (frozen), sends bad poses (dropped and counted) and finally
 // goes silent (lost). Every robot has an unmodified retreat-agent process. Also retreat-launch
-// with a real robot. DDS domains 140..142.
+// with a real robot. DDS domains: the mixed_swarm block of retreat/testing/domains.hpp.
 
 #include <gtest/gtest.h>
 
@@ -20,6 +20,7 @@
 
 #include "retreat/robot/robot_link.hpp"
 #include "retreat/scenario/scenario.hpp"
+#include "retreat/testing/domains.hpp"
 #include "retreat/testing/process.hpp"
 #include "retreat/transport/factory.hpp"
 #include "retreat/wire/topics.hpp"
@@ -234,12 +235,12 @@ TEST(MixedSwarmLaunch, RetreatLaunchRunsASwarmWithARealRobotThatLeavesByItsOwnMo
                              "external_robots: 1}\n"
                           << "agent: {L: 5, K_p: 1000, lambda_in: 0}\n"
                           << "run: {mode: realtime, duration: 12}\n"
-                          << "dds: {vendor: cyclonedds, domain: 142}\n";
+                          << "dds: {vendor: cyclonedds, domain: " << testing::domains::mixed_swarm.at(2) << "}\n";
   ChildProcess robot({RETREAT_ROBOT_EXAMPLE_BIN, "--robot-id", "0", "--scenario", scenario, "--rate", "20",
                       "--orbit", "0.3", "--speed", "0.2", "--exit-radius", "1.2", "--max-time", "40"},
                      dir + "/robot.log");
   const auto [code, output] = testing::run_to_exit(
-      {RETREAT_LAUNCH_BIN, scenario, "--out", dir + "/run", "--domain", "142", "--no-bridge"}, dir + "/launch.log");
+      {RETREAT_LAUNCH_BIN, scenario, "--out", dir + "/run", "--domain", std::to_string(testing::domains::mixed_swarm.at(2)), "--no-bridge"}, dir + "/launch.log");
   ASSERT_EQ(code, 0) << output;
   robot.stop();
   const auto summary = nlohmann::json::parse(std::ifstream(dir + "/run/summary.json"));
@@ -262,7 +263,8 @@ TEST(MixedSwarmLaunch, RetreatLaunchRunsASwarmWithARealRobotThatLeavesByItsOwnMo
 }
 
 INSTANTIATE_TEST_SUITE_P(Vendors, MixedSwarm,
-                         ::testing::Values(Vendor{"cyclonedds", 140}, Vendor{"fastdds", 141}),
+                         ::testing::Values(Vendor{"cyclonedds", testing::domains::mixed_swarm.at(0)},
+                                           Vendor{"fastdds", testing::domains::mixed_swarm.at(1)}),
                          [](const ::testing::TestParamInfo<Vendor>& v) { return std::string(v.param.name); });
 
 }  // namespace

@@ -39,6 +39,7 @@
 #include <string>
 #include <vector>
 
+#include "retreat/testing/domains.hpp"
 #include "retreat/testing/process.hpp"
 #include "retreat/transport/factory.hpp"
 
@@ -49,11 +50,11 @@ using namespace std::chrono_literals;
 using nlohmann::json;
 using testing::ChildProcess;
 
-constexpr int domain_cyclonedds = 150;
-constexpr int domain_fastdds = 151;
-constexpr int domain_cyclonedds_star = 154;
-constexpr int domain_cyclonedds_lossy = 155;
-constexpr int domain_fastdds_lossy = 156;
+constexpr int domain_cyclonedds = testing::domains::multihost.at(0);
+constexpr int domain_fastdds = testing::domains::multihost.at(1);
+constexpr int domain_cyclonedds_star = testing::domains::multihost.at(4);
+constexpr int domain_cyclonedds_lossy = testing::domains::multihost.at(5);
+constexpr int domain_fastdds_lossy = testing::domains::multihost.at(6);
 
 const std::string scenario = std::string(RETREAT_SCENARIOS) + "/robotarium-2019.yaml";
 const std::string profiles = RETREAT_DDS_PROFILES;

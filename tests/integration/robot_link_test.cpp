@@ -1,7 +1,8 @@
 // A real robot's side over DDS: retreat-robot-example (C, on the C robot link only) and the C++
 // RobotLink, each against an unmodified retreat-agent process, over each vendor. Also the agent's
 // field behaviour: a restart that resumes from its journal, run.startup_timeout, bad journals.
-// DDS domain ids 130..139, the built-in loopback-only settings.
+// DDS domain ids: the robot_link blocks of retreat/testing/domains.hpp; the built-in loopback-only
+// settings.
 
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -17,6 +18,7 @@
 #include "retreat/core/seed.hpp"
 #include "retreat/robot/robot_link.hpp"
 #include "retreat/scenario/scenario.hpp"
+#include "retreat/testing/domains.hpp"
 #include "retreat/testing/process.hpp"
 #include "retreat/transport/factory.hpp"
 
@@ -30,7 +32,7 @@ using testing::hang_ceiling;
 
 struct Vendor {
   const char* name;
-  int domain_base;  // robot link tests use domains 130..139
+  int domain_base;  // the first of the vendor's five ids
 };
 
 void PrintTo(const Vendor& v, std::ostream* os) { *os << v.name; }
@@ -317,7 +319,8 @@ TEST_P(RobotLinkOverDds, AnAgentWithNoArenaExitsAfterStartupTimeoutAndABadJourna
 }
 
 INSTANTIATE_TEST_SUITE_P(Vendors, RobotLinkOverDds,
-                         ::testing::Values(Vendor{"cyclonedds", 130}, Vendor{"fastdds", 135}),
+                         ::testing::Values(Vendor{"cyclonedds", testing::domains::robot_link_cyclonedds.first},
+                                           Vendor{"fastdds", testing::domains::robot_link_fastdds.first}),
                          [](const ::testing::TestParamInfo<Vendor>& v) { return std::string(v.param.name); });
 
 TEST(RobotExample, BadArgumentsAreOneLineAndExitTwo) {

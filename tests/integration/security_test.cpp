@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "launch_support.hpp"
+#include "retreat/testing/domains.hpp"
 #include "retreat/testing/process.hpp"
 
 namespace retreat::launch_test {
@@ -149,7 +150,7 @@ TEST_P(SecureSwarm, CompletesWithThePlainRunsTrajectoryHash) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Vendor, SecureSwarm,
-                         ::testing::Values(VendorCase{"fastdds", 65}, VendorCase{"cyclonedds", 66}),
+                         ::testing::Values(VendorCase{"fastdds", testing::domains::security.at(0)}, VendorCase{"cyclonedds", testing::domains::security.at(1)}),
                          [](const auto& test) { return std::string(test.param.vendor); });
 
 /// A participant that tries to take part in the swarm: it reads robot 0's proximity frames and
@@ -232,7 +233,7 @@ TEST_P(SecureSwarmIntruder, WithoutAnIdentitySeesNoRobotAndCannotInjectADecision
 }
 
 INSTANTIATE_TEST_SUITE_P(Vendor, SecureSwarmIntruder,
-                         ::testing::Values(VendorCase{"fastdds", 67}, VendorCase{"cyclonedds", 68}),
+                         ::testing::Values(VendorCase{"fastdds", testing::domains::security.at(2)}, VendorCase{"cyclonedds", testing::domains::security.at(3)}),
                          [](const auto& test) { return std::string(test.param.vendor); });
 
 // ---- permissions, one participant in this process -------------------------------------------
@@ -286,7 +287,7 @@ TEST_P(SecurePermissions, TheBridgeIdentityCannotWriteADecision) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Vendor, SecurePermissions,
-                         ::testing::Values(VendorCase{"fastdds", 69}, VendorCase{"cyclonedds", 70}),
+                         ::testing::Values(VendorCase{"fastdds", testing::domains::security.at(4)}, VendorCase{"cyclonedds", testing::domains::security.at(5)}),
                          [](const auto& test) { return std::string(test.param.vendor); });
 
 // ---- the launcher ----------------------------------------------------------------------------
@@ -294,7 +295,7 @@ INSTANTIATE_TEST_SUITE_P(Vendor, SecurePermissions,
 TEST(SecureLaunch, RefusesMixedVendorsWithOneLine) {
   if (!built("fastdds") || !built("cyclonedds")) GTEST_SKIP() << "needs both vendors";
   const auto dir = fresh_dir("security-mixed");
-  const auto code = run_launch(dir, secure({robotarium, "--dds", "mixed", "--domain", "71"}, shared_pki()));
+  const auto code = run_launch(dir, secure({robotarium, "--dds", "mixed", "--domain", std::to_string(testing::domains::security.at(6))}, shared_pki()));
   EXPECT_EQ(code, 2);
   const auto log = log_of(dir);
   EXPECT_EQ(std::count(log.begin(), log.end(), '\n'), 1) << log;
@@ -316,11 +317,11 @@ TEST(SecureRobotLink, TheExampleRobotJoinsASecureSwarmWithTheArenaIdentityAndIsA
     std::ofstream(scenario) << "name: secure-robot-link\nseed: 11\n"
                             << "agent: {L: 3, dt: 0.1, K_p: 0.5, lambda_in: 0}\n"
                             << "run: {mode: lockstep, startup_timeout: 60}\n"
-                            << "dds: {vendor: " << vendor << ", domain: 72, security: on, security_dir: " << pki << "}\n";
+                            << "dds: {vendor: " << vendor << ", domain: " << testing::domains::security.at(7) << ", security: on, security_dir: " << pki << "}\n";
     testing::ChildProcess agent({RETREAT_AGENT_BIN, "--robot-id", "3", "--scenario", scenario}, dir + "/agent.log");
     // Without an identity the same robot never reaches its agent: security is on.
     const auto [plain, refused] = testing::run_to_exit(
-        {RETREAT_ROBOT_EXAMPLE_BIN, "--robot-id", "3", "--dds", vendor, "--domain", "72", "--lockstep",
+        {RETREAT_ROBOT_EXAMPLE_BIN, "--robot-id", "3", "--dds", vendor, "--domain", std::to_string(testing::domains::security.at(7)), "--lockstep",
          "--agent-timeout", "3"},
         dir + "/plain.log");
     EXPECT_EQ(plain, 1) << refused;

@@ -14,6 +14,8 @@
 #include <stdexcept>
 #include <thread>
 
+#include "retreat/testing/domains.hpp"  // its static_assert checks every suite's block in every build
+
 extern char** environ;
 
 namespace retreat::testing {
