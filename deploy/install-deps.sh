@@ -13,6 +13,8 @@ packages=(
   libddsc0debian openssl
   # pure libraries and program plumbing
   libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libcpp-httplib-dev libssl-dev
+  # the launcher reads DDS profile files (XML) for its capacity check
+  libtinyxml2-dev
   # tests and benchmarks; the fuzzers (tests/fuzz) need Clang and its libFuzzer runtime
   libgtest-dev libgmock-dev googletest libbenchmark-dev clang libclang-rt-14-dev
   # the portability check of the test command: the pure core built with Clang and libc++

@@ -32,6 +32,7 @@
 #include <vector>
 
 #include "retreat/launch/command_line.hpp"
+#include "retreat/launch/capacity.hpp"
 #include "domain_lock.hpp"
 #include "retreat/launch/options.hpp"
 #include "retreat/core/paths.hpp"
@@ -228,6 +229,17 @@ int main(int argc, char** argv) {
   }
   std::optional<launch::DomainLock> lock;
   if (!plan.options.in_process) {
+    // Before anything starts: a run this host cannot hold is refused, not left to lose agents.
+    try {
+      if (const auto refusal = launch::capacity_refusal(plan, plan.scenario, launch::agent_processes(plan, plan.scenario),
+                                                        launch::read_host_limits())) {
+        std::fprintf(stderr, "retreat-launch: %s\n", refusal->c_str());
+        return 2;
+      }
+    } catch (const std::invalid_argument& e) {
+      std::fprintf(stderr, "retreat-launch: %s\n", e.what());
+      return 2;
+    }
     lock = lock_domain(plan);
     if (!lock) return 2;
   }

@@ -24,11 +24,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using namespace std::chrono_literals;
 
-/// Endless queue: agents started ahead of the robots that exist (ids only grow, one at a time),
-/// so that each agent is up and discovered before its robot joins the queue. Should the arena
-/// still publish a robot's first frame before the match, lockstep re-sends unanswered frames
-/// until run.agent_timeout, and real time applies decisions whenever they come.
-constexpr std::uint32_t endless_spare_agents = 4;
 constexpr auto agent_stagger = 5ms;
 constexpr auto arena_stop_grace = 10s;  // it writes the run directory's summary on SIGTERM
 constexpr auto child_stop_grace = 5s;
@@ -145,9 +140,7 @@ RunOutcome run_processes(const Plan& plan, std::uint64_t seed, const std::string
   };
 
   ProgressLine progress(s.name + " seed " + std::to_string(seed), s.run.duration);
-  prepare_shared_memory(plan, s,
-                        s.arena.robots_inside + s.arena.robots_waiting + (plan.endless ? endless_spare_agents : 0),
-                        progress);
+  prepare_shared_memory(plan, s, agent_processes(plan, s), progress);
   std::unique_ptr<ChildProcess> arena, bridge;
   std::vector<AgentProcess> agents;
   std::map<std::string, std::uint32_t> agent_vendors;
@@ -182,8 +175,7 @@ RunOutcome run_processes(const Plan& plan, std::uint64_t seed, const std::string
       arena_args.push_back("dds.profile=" + fs::absolute(plan.options.arena_profile).string());
     }
     arena = std::make_unique<ChildProcess>("retreat-arena", arena_args, dir + "/logs/arena.log");
-    const std::uint32_t robots = s.arena.robots_inside + s.arena.robots_waiting +
-                                 (plan.endless ? endless_spare_agents : 0);
+    const std::uint32_t robots = agent_processes(plan, s);
     for (std::uint32_t r = 0; r < robots && stop_signal.load() == 0; ++r) {
       std::this_thread::sleep_for(agent_stagger);
       start_agent(r);
@@ -285,9 +277,9 @@ RunOutcome run_processes(const Plan& plan, std::uint64_t seed, const std::string
       stop_all({arena.get()}, arena_stop_grace);
     }
     arena_status = arena->poll();
-    std::vector<ChildProcess*> agent_processes;
-    for (auto& a : agents) agent_processes.push_back(a.process.get());
-    stop_all(agent_processes, child_stop_grace);
+    std::vector<ChildProcess*> agent_children;
+    for (auto& a : agents) agent_children.push_back(a.process.get());
+    stop_all(agent_children, child_stop_grace);
   } catch (...) {
     stop_all(all_children(), child_stop_grace);
     throw;

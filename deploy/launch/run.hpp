@@ -32,6 +32,18 @@ struct RunOutcome {
 RunOutcome run_in_process(const Plan& plan, std::uint64_t seed, const std::string& dir,
                           bool progress_line = true);
 
+/// Endless queue: agents started ahead of the robots that exist (ids only grow, one at a time),
+/// so that each agent is up and discovered before its robot joins the queue. Should the arena
+/// still publish a robot's first frame before the match, lockstep re-sends unanswered frames
+/// until run.agent_timeout, and real time applies decisions whenever they come.
+inline constexpr std::uint32_t endless_spare_agents = 4;
+
+/// The agent processes a process run of @p s starts at once: one per robot inside or waiting,
+/// and the endless queue's spares.
+inline std::uint32_t agent_processes(const Plan& plan, const scenario::Scenario& s) {
+  return s.arena.robots_inside + s.arena.robots_waiting + (plan.endless ? endless_spare_agents : 0);
+}
+
 /// Starts retreat-arena, one retreat-agent per robot (and the bridge), supervises them until
 /// the arena exits, stops the rest, and updates `dir`/summary.json. Throws RunFailure.
 RunOutcome run_processes(const Plan& plan, std::uint64_t seed, const std::string& dir, int domain);

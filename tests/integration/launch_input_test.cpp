@@ -2,11 +2,12 @@
 // (the launcher creates it only after every check passed, before the first child starts).
 
 #include <gtest/gtest.h>
-
-#include <sys/file.h>
-
 #include <fcntl.h>
+#include <sys/file.h>
 #include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
 
 #include "retreat/testing/domains.hpp"
 #include "launch_support.hpp"
@@ -43,6 +44,19 @@ TEST(LaunchInput, BadInputIsRefusedWithExitCodeTwoAndNothingStarted) {
   expect_refused("jobs-too-many", {robotarium, "--in-process", "--seeds", "1:2", "--jobs", "257"});
   expect_refused("jobs-not-a-number", {robotarium, "--in-process", "--jobs", "two"});
   expect_refused("jobs-in-processes", {robotarium, "--seeds", "1:2", "--jobs", "2", "--domain", "64"});
+}
+
+TEST(LaunchInput, ASwarmBeyondWhatItsDdsSettingsDiscoverIsRefusedWithTheLimitAndTheWayOut) {
+  // kinetic-1000 without a bridge: 1,000 agents, the arena and the launcher, with the built-in settings
+  // (participant indices 0..119 per domain); the unit tests cover profiles, tasks and memory.
+  const auto dir = fresh_dir("input-capacity");
+  EXPECT_EQ(run_launch(dir, {scenarios + "/kinetic-1000.yaml", "--domain", "64"}), 2) << log_of(dir);
+  const auto log = log_of(dir);
+  EXPECT_NE(log.find("1002 DDS participants (1000 agents, the arena and the launcher)"), std::string::npos) << log;
+  EXPECT_NE(log.find("discover at most 120"), std::string::npos) << log;
+  EXPECT_NE(log.find("star profiles"), std::string::npos) << log;
+  EXPECT_EQ(std::count(log.begin(), log.end(), '\n'), 1) << "one line: " << log;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/run")) << "something was started";
 }
 
 TEST(LaunchInput, ADomainInUseByAnotherLaunchIsRefused) {

@@ -68,7 +68,7 @@ bool is_plumbing_header(const std::string& header) {
     if (starts_with(header, dir)) return true;
   }
   const auto name = fs::path(header).filename().string();
-  return name == "httplib.h" || name == "CLI11.hpp";
+  return name == "httplib.h" || name == "CLI11.hpp" || name == "tinyxml2.h";
 }
 
 /// A room of the source tree and its level in the dependency order.

@@ -1,0 +1,208 @@
+#include "retreat/launch/capacity.hpp"
+
+#include <sys/resource.h>
+#include <tinyxml2.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cstdlib>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+#include <string_view>
+#include <vector>
+
+namespace retreat::launch {
+namespace {
+
+/// The participant indices a domain's block of well-known ports holds (ports 7410 + 250·domain +
+/// 2·index up to the next domain's block), and what the adapters' built-in settings announce to.
+constexpr std::uint32_t builtin_indices = 120;
+
+std::string trimmed(const char* text) {
+  std::string s = text != nullptr ? text : "";
+  const auto space = [](unsigned char c) { return std::isspace(c) != 0; };
+  s.erase(s.begin(), std::find_if_not(s.begin(), s.end(), space));
+  s.erase(std::find_if_not(s.rbegin(), s.rend(), space).base(), s.end());
+  return s;
+}
+
+/// The text of the first element named @p name anywhere below @p node (comments are not
+/// elements), or nullopt.
+std::optional<std::string> first_text(const tinyxml2::XMLNode& node, const char* name) {
+  for (const auto* child = node.FirstChildElement(); child != nullptr; child = child->NextSiblingElement()) {
+    if (std::string_view(child->Name()) == name) return trimmed(child->GetText());
+    if (auto below = first_text(*child, name)) return below;
+  }
+  return std::nullopt;
+}
+
+std::optional<std::uint32_t> number(const std::string& text) {
+  try {
+    std::size_t used = 0;
+    const auto v = std::stoul(text, &used);
+    if (used == text.size() && v <= std::numeric_limits<std::uint32_t>::max()) return static_cast<std::uint32_t>(v);
+  } catch (const std::exception&) {
+  }
+  return std::nullopt;
+}
+
+/// @p text with Cyclone DDS's expansion of `${NAME}` and `${NAME:-default}` from the environment
+/// (as the process this launcher starts would see it); nullopt for forms it does not know.
+std::optional<std::string> expanded(const std::string& text) {
+  std::string out;
+  for (std::size_t at = 0; at < text.size();) {
+    if (text.compare(at, 2, "${") != 0) {
+      out += text[at++];
+      continue;
+    }
+    const auto end = text.find('}', at);
+    if (end == std::string::npos) return std::nullopt;
+    const std::string inner = text.substr(at + 2, end - at - 2);
+    const auto dash = inner.find(":-");
+    const std::string name = inner.substr(0, dash);
+    if (name.empty() || name.find_first_of(":+?$") != std::string::npos) return std::nullopt;
+    const char* value = std::getenv(name.c_str());
+    if (value != nullptr && *value != '\0') {
+      out += value;
+    } else if (dash != std::string::npos) {
+      out += inner.substr(dash + 2);
+    }
+    at = end + 1;
+  }
+  return out;
+}
+
+DiscoveryLimit cyclone_limit(const tinyxml2::XMLDocument& doc, const std::string& profile) {
+  const auto written = first_text(doc, "ParticipantIndex");
+  const auto index = written ? expanded(*written) : std::nullopt;
+  if (written && !index) return {std::nullopt, profile};  // nothing the launcher can count: not refused
+  // Cyclone DDS 0.10's default is "none": free ports, no index to run out of.
+  if (!index || *index == "none") return {std::nullopt, profile + " (ParticipantIndex none)"};
+  if (*index == "auto") {
+    const auto max_written = first_text(doc, "MaxAutoParticipantIndex");
+    const auto max_text = max_written ? expanded(*max_written) : std::optional<std::string>("9");  // Cyclone's default
+    const auto max_number = max_text ? number(*max_text) : std::nullopt;
+    if (!max_number) return {std::nullopt, profile};
+    const std::uint32_t max = std::min<std::uint32_t>(*max_number, 1u << 20);
+    return {max + 1, profile + " (ParticipantIndex auto, MaxAutoParticipantIndex " + std::to_string(max) + ")"};
+  }
+  // A fixed index (a hub's): one participant per host with this file.
+  return {1, profile + " (a fixed ParticipantIndex " + *index + ")"};
+}
+
+DiscoveryLimit fastdds_limit(const tinyxml2::XMLDocument& doc, const std::string& profile) {
+  const auto protocol = first_text(doc, "discoveryProtocol");
+  if (protocol && (*protocol == "CLIENT" || *protocol == "SUPER_CLIENT")) {
+    return {std::nullopt, profile + " (a discovery-server " + *protocol + ")"};
+  }
+  if (const auto range = first_text(doc, "maxInitialPeersRange")) {
+    if (const auto n = number(*range)) {
+      return {*n, profile + " (SIMPLE discovery to initial peers, maxInitialPeersRange " + *range + ")"};
+    }
+  }
+  return {std::nullopt, profile};  // nothing the launcher can count: not refused
+}
+
+std::optional<std::uint64_t> read_number(const std::string& path) {
+  std::ifstream in(path);
+  std::uint64_t v = 0;
+  if (in >> v) return v;
+  return std::nullopt;
+}
+
+std::string mib(std::uint64_t bytes) { return std::to_string(bytes >> 20) + " MiB"; }
+
+}  // namespace
+
+DiscoveryLimit discovery_limit(const std::string& vendor, const std::string& profile) {
+  if (profile.empty()) {
+    return {builtin_indices, "the built-in loopback settings of " + vendor + " (participant indices 0.." +
+                                 std::to_string(builtin_indices - 1) + ")"};
+  }
+  std::ifstream in(profile);
+  std::stringstream text;
+  text << in.rdbuf();
+  tinyxml2::XMLDocument doc;
+  if (!in || doc.Parse(text.str().c_str()) != tinyxml2::XML_SUCCESS) {
+    throw std::invalid_argument("dds.profile '" + profile + "': not a well-formed XML file (" +
+                                (in ? std::string(doc.ErrorStr()) : std::string("cannot be read")) + ")");
+  }
+  return vendor == "cyclonedds" ? cyclone_limit(doc, profile) : fastdds_limit(doc, profile);
+}
+
+HostLimits read_host_limits() {
+  HostLimits h;
+  h.memory_available = std::numeric_limits<std::uint64_t>::max();
+  std::ifstream meminfo("/proc/meminfo");
+  for (std::string key; meminfo >> key;) {
+    std::uint64_t kib = 0;
+    meminfo >> kib;
+    if (key == "MemAvailable:") {
+      h.memory_available = kib * 1024;
+      break;
+    }
+    meminfo.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+  }
+  h.tasks_allowed = std::numeric_limits<std::uint64_t>::max();
+  rlimit nproc{};
+  if (::getrlimit(RLIMIT_NPROC, &nproc) == 0 && nproc.rlim_cur != RLIM_INFINITY) h.tasks_allowed = nproc.rlim_cur;
+  for (const char* path : {"/proc/sys/kernel/threads-max", "/proc/sys/kernel/pid_max"}) {
+    if (const auto v = read_number(path)) h.tasks_allowed = std::min(h.tasks_allowed, *v);
+  }
+  // /proc/loadavg: "0.20 0.18 0.12 1/80 11206": runnable/total tasks.
+  std::ifstream loadavg("/proc/loadavg");
+  std::string a, b, c, tasks;
+  if (loadavg >> a >> b >> c >> tasks) {
+    if (const auto slash = tasks.find('/'); slash != std::string::npos) {
+      h.tasks_in_use = std::stoull(tasks.substr(slash + 1));
+    }
+  }
+  return h;
+}
+
+std::uint32_t agent_threads(const std::string& vendor) {
+  // Counted in /proc/<pid>/task of an agent waiting for its arena (Fast DDS 2.9: 7, Cyclone DDS
+  // 0.10: 8), plus two for what a run and DDS Security add.
+  return vendor == "fastdds" ? 9 : 10;
+}
+
+std::optional<std::string> capacity_refusal(const Plan& plan, const scenario::Scenario& s, std::uint32_t agents,
+                                            const HostLimits& host) {
+  // Everyone in the domain on this host: the arena, the launcher's telemetry reader, the bridge.
+  const std::uint32_t others = 2 + (plan.bridge_exe.empty() ? 0 : 1);
+  const std::uint32_t participants = agents + others;
+  const std::string who = std::to_string(agents) + " agents, the arena" +
+                          (plan.bridge_exe.empty() ? " and the launcher" : ", the launcher and the bridge");
+  // Agents are the many: their settings bound the domain (a star's hub has a fixed index).
+  std::vector<std::string> vendors;
+  for (std::uint32_t r = 0; r < std::min<std::uint32_t>(agents, 2); ++r) vendors.push_back(plan.vendors.agent(r));
+  for (const auto& vendor : vendors) {
+    const auto limit = discovery_limit(vendor, s.dds.profile);
+    if (limit.participants && participants > *limit.participants) {
+      return std::to_string(participants) + " DDS participants (" + who + ") in one domain on this host, but " +
+             limit.settings + " discover at most " + std::to_string(*limit.participants) +
+             ": use the star profiles (deploy/dds/*-star-*.xml or the Fast DDS discovery-server pair, "
+             "with --arena-profile; docs/dds-profiles.md), or fewer agents per host";
+    }
+  }
+  std::uint64_t threads = 0;
+  for (std::uint32_t r = 0; r < agents; ++r) threads += agent_threads(plan.vendors.agent(r));
+  if (host.tasks_in_use + threads > host.tasks_allowed) {
+    return std::to_string(agents) + " agent processes need about " + std::to_string(threads) +
+           " threads, and this host has " + std::to_string(host.tasks_in_use) + " tasks of the " +
+           std::to_string(host.tasks_allowed) +
+           " it allows (ulimit -u, kernel.threads-max, kernel.pid_max): raise the limit, or spread the "
+           "agents over several hosts";
+  }
+  const std::uint64_t memory = static_cast<std::uint64_t>(agents) * agent_memory_estimate;
+  if (memory > host.memory_available) {
+    return std::to_string(agents) + " agent processes need about " + mib(memory) + " of memory and " +
+           mib(host.memory_available) + " is available: spread the agents over several hosts";
+  }
+  return std::nullopt;
+}
+
+}  // namespace retreat::launch

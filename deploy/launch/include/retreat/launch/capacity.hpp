@@ -1,0 +1,54 @@
+#pragma once
+/// @file
+/// Whether this host can hold a process run before anything starts: DDS participants per domain
+/// (the discovery settings' participant indices), tasks (threads) and memory. A run that does not
+/// fit is refused in one line naming the limit and the way out, instead of agents that fail to
+/// find a port, are never discovered and are declared lost one by one.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "retreat/launch/options.hpp"
+
+namespace retreat::launch {
+
+/// How many participants of one domain on one host a process's DDS settings can discover.
+struct DiscoveryLimit {
+  /// At most this many participants in the domain on this host; none: not bounded by indices
+  /// (a star: agents announce to the hub only and take free ports).
+  std::optional<std::uint32_t> participants;
+  std::string settings;  ///< what the limit comes from, for the refusal line
+};
+
+/// The limit of @p vendor's settings: its built-in loopback settings when @p profile is empty
+/// (participant indices 0..119: the ports a domain's block holds), else what the profile file
+/// declares (Cyclone DDS: ParticipantIndex auto and MaxAutoParticipantIndex, none, or a fixed
+/// index; Fast DDS: a discovery-server client, or maxInitialPeersRange). Elements inside XML
+/// comments do not count. @throws std::invalid_argument if the file is not well-formed XML.
+DiscoveryLimit discovery_limit(const std::string& vendor, const std::string& profile);
+
+/// What the host allows and has, read from the kernel (tests pass their own).
+struct HostLimits {
+  std::uint64_t memory_available = 0;  ///< MemAvailable [bytes]
+  std::uint64_t tasks_allowed = 0;     ///< min(RLIMIT_NPROC, kernel.threads-max, kernel.pid_max)
+  std::uint64_t tasks_in_use = 0;      ///< every task on the host now (an upper bound of ours)
+};
+
+/// This host's limits now: /proc/meminfo, getrlimit(RLIMIT_NPROC), /proc/sys/kernel/threads-max,
+/// /proc/sys/kernel/pid_max, /proc/loadavg. A value that cannot be read is left at its maximum
+/// (it then limits nothing).
+HostLimits read_host_limits();
+
+/// Estimates per agent process, from measurements of idle and running agents on this machine
+/// (docs/benchmarks.md, "Discovery": PSS 2.9–3.1 MiB; threads counted in /proc/<pid>/task):
+/// memory with twice the measured PSS as headroom, threads as counted per vendor.
+inline constexpr std::uint64_t agent_memory_estimate = 6u << 20;
+std::uint32_t agent_threads(const std::string& vendor);
+
+/// Empty when a process run of @p plan with @p agents agent processes fits @p host; otherwise
+/// the one line that says which limit it exceeds and what to do instead.
+std::optional<std::string> capacity_refusal(const Plan& plan, const scenario::Scenario& s, std::uint32_t agents,
+                                            const HostLimits& host);
+
+}  // namespace retreat::launch

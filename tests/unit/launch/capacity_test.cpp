@@ -1,0 +1,126 @@
+// The launcher's capacity check: what each vendor's settings and each shipped profile let one
+// host's domain hold, and the one-line refusals for participants, tasks and memory. Host limits
+// are passed in, so these hold on any machine.
+
+#include <gtest/gtest.h>
+#include <stdlib.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "retreat/launch/capacity.hpp"
+
+namespace retreat::launch {
+namespace {
+
+const std::string profiles = std::string(RETREAT_PROFILES) + "/";
+
+/// A host with room for anything.
+constexpr HostLimits roomy{std::uint64_t{1} << 40, 1u << 30, 100};
+
+std::string write_profile(const std::string& name, const std::string& text) {
+  const auto path = ::testing::TempDir() + "/capacity_" + name + ".xml";
+  std::ofstream(path) << text;
+  return path;
+}
+
+Plan plan_for(const std::string& vendor, bool bridge) {
+  Plan p;
+  p.vendors.label = vendor;
+  p.vendors.arena = vendor == "mixed" ? "fastdds" : vendor;
+  p.bridge_exe = bridge ? "/usr/bin/retreat-bridge" : "";
+  return p;
+}
+
+TEST(DiscoveryLimit, TheBuiltInSettingsOfEitherVendorHold120ParticipantsPerDomain) {
+  for (const char* vendor : {"fastdds", "cyclonedds"}) {
+    const auto limit = discovery_limit(vendor, "");
+    EXPECT_EQ(limit.participants, 120u) << vendor;
+    EXPECT_NE(limit.settings.find("built-in"), std::string::npos) << limit.settings;
+  }
+}
+
+TEST(DiscoveryLimit, ReadsEveryShippedProfileAsItsCommentsSay) {
+  EXPECT_EQ(discovery_limit("cyclonedds", profiles + "cyclonedds-loopback.xml").participants, 120u);
+  EXPECT_EQ(discovery_limit("cyclonedds", profiles + "cyclonedds-star-agent.xml").participants, std::nullopt);
+  EXPECT_EQ(discovery_limit("fastdds", profiles + "fastdds-loopback.xml").participants, 120u);
+  EXPECT_EQ(discovery_limit("fastdds", profiles + "fastdds-discovery-server-client.xml").participants, std::nullopt);
+  EXPECT_EQ(discovery_limit("fastdds", profiles + "fastdds-multihost.xml").participants, 16u);
+  // The hub's index comes from the environment, 0 by default: one participant per host.
+  ::unsetenv("RETREAT_DDS_PARTICIPANT_INDEX");
+  EXPECT_EQ(discovery_limit("cyclonedds", profiles + "cyclonedds-star-hub.xml").participants, 1u);
+}
+
+TEST(DiscoveryLimit, ExpandsTheEnvironmentAsCycloneDoes) {
+  // cyclonedds-multihost.xml: ParticipantIndex ${RETREAT_DDS_PARTICIPANT_INDEX:-none},
+  // MaxAutoParticipantIndex ${RETREAT_DDS_MAX_PARTICIPANT_INDEX:-9}.
+  const auto multihost = profiles + "cyclonedds-multihost.xml";
+  ::unsetenv("RETREAT_DDS_PARTICIPANT_INDEX");
+  ::unsetenv("RETREAT_DDS_MAX_PARTICIPANT_INDEX");
+  EXPECT_EQ(discovery_limit("cyclonedds", multihost).participants, std::nullopt);
+  ::setenv("RETREAT_DDS_PARTICIPANT_INDEX", "auto", 1);
+  EXPECT_EQ(discovery_limit("cyclonedds", multihost).participants, 10u);
+  ::setenv("RETREAT_DDS_MAX_PARTICIPANT_INDEX", "49", 1);
+  EXPECT_EQ(discovery_limit("cyclonedds", multihost).participants, 50u);
+  ::unsetenv("RETREAT_DDS_PARTICIPANT_INDEX");
+  ::unsetenv("RETREAT_DDS_MAX_PARTICIPANT_INDEX");
+}
+
+TEST(DiscoveryLimit, CommentsDoNotCountAndMalformedFilesAreRefusedByName) {
+  const auto commented = write_profile(
+      "commented", "<CycloneDDS><!-- <ParticipantIndex>auto</ParticipantIndex> --><Domain/></CycloneDDS>");
+  EXPECT_EQ(discovery_limit("cyclonedds", commented).participants, std::nullopt);
+  const auto broken = write_profile("broken", "<CycloneDDS><Domain></CycloneDDS>");
+  try {
+    discovery_limit("cyclonedds", broken);
+    FAIL() << "a malformed profile was read";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find(broken), std::string::npos) << e.what();
+  }
+}
+
+TEST(CapacityRefusal, CountsTheArenaTheLauncherAndTheBridgeBesideTheAgents) {
+  scenario::Scenario s;  // built-in settings: 120 per domain
+  EXPECT_FALSE(capacity_refusal(plan_for("cyclonedds", false), s, 118, roomy));  // 120
+  const auto refused = capacity_refusal(plan_for("cyclonedds", false), s, 119, roomy);
+  ASSERT_TRUE(refused);
+  EXPECT_NE(refused->find("121 DDS participants"), std::string::npos) << *refused;
+  EXPECT_NE(refused->find("at most 120"), std::string::npos) << *refused;
+  EXPECT_NE(refused->find("star"), std::string::npos) << "names the way out: " << *refused;
+  EXPECT_TRUE(capacity_refusal(plan_for("fastdds", true), s, 118, roomy)) << "the bridge is one more";
+  EXPECT_TRUE(capacity_refusal(plan_for("mixed", true), s, 200, roomy));
+}
+
+TEST(CapacityRefusal, AStarHoldsAThousandAgents) {
+  scenario::Scenario s;
+  s.dds.profile = profiles + "cyclonedds-star-agent.xml";
+  EXPECT_FALSE(capacity_refusal(plan_for("cyclonedds", true), s, 1000, roomy));
+  s.dds.profile = profiles + "fastdds-discovery-server-client.xml";
+  EXPECT_FALSE(capacity_refusal(plan_for("fastdds", true), s, 1000, roomy));
+}
+
+TEST(CapacityRefusal, TooFewTasksOrTooLittleMemoryIsRefusedWithTheLimit) {
+  scenario::Scenario s;
+  s.dds.profile = profiles + "cyclonedds-star-agent.xml";
+  // 100 Cyclone agents: about 1,000 threads; 500 tasks left of 1,400.
+  const auto tasks = capacity_refusal(plan_for("cyclonedds", false), s, 100, {std::uint64_t{1} << 40, 1400, 900});
+  ASSERT_TRUE(tasks);
+  EXPECT_NE(tasks->find("1400"), std::string::npos) << *tasks;
+  EXPECT_NE(tasks->find("ulimit -u"), std::string::npos) << *tasks;
+  EXPECT_FALSE(capacity_refusal(plan_for("cyclonedds", false), s, 40, {std::uint64_t{1} << 40, 1400, 900}));
+  // 100 agents: about 600 MiB; 100 MiB available.
+  const auto memory = capacity_refusal(plan_for("cyclonedds", false), s, 100, {100u << 20, 1u << 30, 100});
+  ASSERT_TRUE(memory);
+  EXPECT_NE(memory->find("100 MiB"), std::string::npos) << *memory;
+}
+
+TEST(HostLimits, AreReadFromThisKernel) {
+  const auto h = read_host_limits();
+  EXPECT_GT(h.memory_available, 0u);
+  EXPECT_GT(h.tasks_allowed, h.tasks_in_use) << "this test itself runs";
+  EXPECT_GT(h.tasks_in_use, 0u);
+}
+
+}  // namespace
+}  // namespace retreat::launch
