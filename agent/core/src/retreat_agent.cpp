@@ -43,6 +43,45 @@ RetreatAgent::RetreatAgent(std::uint32_t robot_id, model::ModelParams model, Age
   }
 }
 
+Plan RetreatAgent::plan(const FrameClock& clock, std::int64_t horizon) const {
+  if (!last_tick_) {
+    throw std::logic_error("RetreatAgent::plan before any accepted frame");
+  }
+  if (horizon < 1) {
+    throw std::invalid_argument("plan horizon = " + std::to_string(horizon) + ": must be >= 1 tick");
+  }
+  if (clock.multiplier < 1 || !std::isfinite(clock.period) || clock.period <= 0.0) {
+    throw std::invalid_argument("frame clock " + std::to_string(clock.multiplier) + " x " +
+                                std::to_string(clock.period) +
+                                " s: the multiplier must be >= 1 and the period finite and > 0");
+  }
+  Plan plan;
+  plan.through_tick = *last_tick_ + horizon;
+  if (stopped_ || !entry_time_) {
+    return plan;  // stopped, or waiting (entering is an input change): no decision to come
+  }
+  RetreatAgent ahead(*this);
+  Observation frame;
+  frame.robot_id = robot_id_;
+  frame.phase = RobotPhase::inside;
+  for (std::int64_t tick = *last_tick_ + 1; tick <= plan.through_tick; ++tick) {
+    frame.tick = tick;
+    frame.time = clock.time(tick);
+    const FrameResult result = ahead.on_frame(frame);
+    if (result.verdict != FrameVerdict::accepted) {
+      throw std::invalid_argument("frame clock puts tick " + std::to_string(tick) + " at " +
+                                  std::to_string(frame.time) + " s, before the last frame's " +
+                                  std::to_string(last_time_) + " s");
+    }
+    if (result.retreat_now) {
+      plan.retreat_tick = tick;
+      plan.through_tick = tick;
+      break;
+    }
+  }
+  return plan;
+}
+
 FrameVerdict RetreatAgent::check(const Observation& frame) const {
   if (frame.robot_id != robot_id_) {
     return FrameVerdict::wrong_robot;

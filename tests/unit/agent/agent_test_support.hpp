@@ -42,6 +42,7 @@ class FixedProbability final : public Controller {
   explicit FixedProbability(double p) : p_(p) {}
   double retreat_probability(const ControllerInput&) override { return p_; }
   std::string_view name() const override { return "fixed"; }
+  std::unique_ptr<Controller> clone() const override { return std::make_unique<FixedProbability>(*this); }
 
  private:
   double p_;
@@ -54,6 +55,7 @@ class FixedProbabilityFrom final : public Controller {
   double retreat_probability(const ControllerInput&) override { return p_; }
   double first_decision_after(const AgentParams&) const override { return first_; }
   std::string_view name() const override { return "fixed-from"; }
+  std::unique_ptr<Controller> clone() const override { return std::make_unique<FixedProbabilityFrom>(*this); }
 
  private:
   double p_;

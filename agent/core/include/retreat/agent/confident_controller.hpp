@@ -4,6 +4,7 @@
 /// that the estimate's noise alone does not make robots leave (MODEL.md §7.3).
 
 #include <cstdint>
+#include <memory>
 #include <string_view>
 
 #include "retreat/agent/controller.hpp"
@@ -41,6 +42,7 @@ class ConfidentController final : public Controller {
   double retreat_probability(const ControllerInput& input) override;
 
   std::string_view name() const override { return registered_name; }
+  std::unique_ptr<Controller> clone() const override { return std::make_unique<ConfidentController>(*this); }
 
  private:
   double z_;

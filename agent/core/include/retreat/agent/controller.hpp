@@ -3,6 +3,7 @@
 /// The interface of a named retreat controller: one decision step's probability of leaving.
 
 #include <cstdint>
+#include <memory>
 #include <string_view>
 
 #include "retreat/agent/agent_params.hpp"
@@ -51,6 +52,10 @@ class Controller {
 
   /// The registered name (`paper`, ...), as written in the scenario's `agent.controller`.
   virtual std::string_view name() const = 0;
+
+  /// A copy of this controller, state and all, for looking ahead (RetreatAgent::plan): stepping
+  /// the copy leaves this one unchanged.
+  virtual std::unique_ptr<Controller> clone() const = 0;
 
  protected:
   Controller() = default;

@@ -5,6 +5,7 @@
 /// docs/experiments.md, "Rules that reach the optimum").
 
 #include <cstdint>
+#include <memory>
 #include <string_view>
 
 #include "retreat/agent/controller.hpp"
@@ -57,6 +58,7 @@ class ConfidentProportionalController final : public Controller {
   double first_decision_after(const AgentParams& /*agent*/) const override { return 0.0; }
 
   std::string_view name() const override { return registered_name; }
+  std::unique_ptr<Controller> clone() const override { return std::make_unique<ConfidentProportionalController>(*this); }
 
  private:
   double z_;
@@ -93,6 +95,7 @@ class InfluxMatchingController final : public Controller {
   double first_decision_after(const AgentParams& /*agent*/) const override { return 0.0; }
 
   std::string_view name() const override { return registered_name; }
+  std::unique_ptr<Controller> clone() const override { return std::make_unique<InfluxMatchingController>(*this); }
 
  private:
   ConfidentProportionalController proportional_;

@@ -5,6 +5,7 @@
 /// (MODEL.md §7.2).
 
 #include <deque>
+#include <memory>
 #include <string_view>
 
 #include "retreat/agent/controller.hpp"
@@ -49,6 +50,7 @@ class InfluxAwareController final : public Controller {
   double retreat_probability(const ControllerInput& input) override;
 
   std::string_view name() const override { return name_; }
+  std::unique_ptr<Controller> clone() const override { return std::make_unique<InfluxAwareController>(*this); }
 
   /// The influx estimate used at the last step [robots/(m²·s)].
   double last_influx_estimate() const noexcept { return last_influx_; }

@@ -2,6 +2,7 @@
 /// @file
 /// The paper's controller, exactly as published (Algorithm 1 with eq. ε).
 
+#include <memory>
 #include <string_view>
 
 #include "retreat/agent/controller.hpp"
@@ -21,6 +22,7 @@ class PaperController final : public Controller {
   double retreat_probability(const ControllerInput& input) override;
 
   std::string_view name() const override { return registered_name; }
+  std::unique_ptr<Controller> clone() const override { return std::make_unique<PaperController>(*this); }
 };
 
 }  // namespace retreat::agent

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <utility>
 
 #include "retreat/agent/agent_params.hpp"
 #include "retreat/agent/controller.hpp"
@@ -20,6 +21,51 @@ struct FrameResult {
   FrameVerdict verdict = FrameVerdict::accepted;  ///< accepted, or why the frame was dropped
   bool retreat_now = false;  ///< this frame's steps produced the retreat decision
   bool retreating = false;   ///< the agent has decided to retreat (now or before; sticky)
+};
+
+/// When a producer's frames are, as the producer computes it: frame `tick` is at
+/// static_cast<double>(tick · multiplier) · period. The arena's worlds keep such clocks (kinetic:
+/// 1 × the tick period; physical: the physics steps per tick × the physics step), so an agent
+/// told the clock knows its coming frames' times bit for bit, as it must to look ahead exactly.
+struct FrameClock {
+  std::int64_t multiplier = 1;  ///< clock steps per frame tick, >= 1
+  double period = 0.0;          ///< one clock step [s], finite and > 0
+
+  /// The time of frame @p tick [s].
+  double time(std::int64_t tick) const noexcept { return static_cast<double>(tick * multiplier) * period; }
+};
+
+/// An owned controller whose copies are clones (Controller::clone), so that an agent (and a
+/// look-ahead copy of it) copies with the defaults: the copies go on alone.
+class ControllerCopy {
+ public:
+  explicit ControllerCopy(std::unique_ptr<Controller> controller) : controller_(std::move(controller)) {}
+  ControllerCopy(const ControllerCopy& other) : controller_(clone(other)) {}
+  ControllerCopy& operator=(const ControllerCopy& other) {
+    if (this != &other) controller_ = clone(other);
+    return *this;
+  }
+  ControllerCopy(ControllerCopy&&) noexcept = default;
+  ControllerCopy& operator=(ControllerCopy&&) noexcept = default;
+  ~ControllerCopy() = default;
+
+  Controller& operator*() const noexcept { return *controller_; }
+  Controller* operator->() const noexcept { return controller_.get(); }
+
+ private:
+  static std::unique_ptr<Controller> clone(const ControllerCopy& c) {
+    return c.controller_ ? c.controller_->clone() : nullptr;  // a moved-from one copies empty
+  }
+  std::unique_ptr<Controller> controller_;
+};
+
+/// What an agent will decide while its robot's input stays unchanged (RetreatAgent::plan).
+struct Plan {
+  /// The plan covers the frames after the last accepted one through this tick.
+  std::int64_t through_tick = 0;
+  /// The covered tick at whose frame the agent retreats (then through_tick is this tick);
+  /// none: it stays through through_tick.
+  std::optional<std::int64_t> retreat_tick;
 };
 
 /// The agent's state, for the status message and for tests.
@@ -88,6 +134,18 @@ class RetreatAgent {
   /// Checks @p frame, then (if accepted) records its onsets and takes every due step.
   FrameResult on_frame(const Observation& frame);
 
+  /// Looks ahead: what this agent decides if frames last+1 .. last+@p horizon (last: the last
+  /// accepted frame's tick) arrive one per tick at @p clock's times with the last frame's phase
+  /// and no new onsets, that is, while its robot's input stays unchanged. Computed on a copy
+  /// (the controller's too), so this agent is untouched, and since step k's coin depends on the
+  /// seed and k alone, feeding it those frames later gives exactly the plan's decisions; a frame
+  /// that differs (an onset, a phase change) voids the plan from its tick on and is simply
+  /// handled as it comes. An agent not yet inside, or stopped, decides nothing: it stays.
+  /// @throws std::logic_error before any accepted frame.
+  /// @throws std::invalid_argument if @p horizon < 1, if @p clock is not a valid clock, or if it
+  ///         puts a covered frame before the last accepted frame's time.
+  Plan plan(const FrameClock& clock, std::int64_t horizon) const;
+
   /// Whether the agent has decided to retreat (sticky).
   bool retreating() const noexcept { return decided_; }
   /// Whether the agent takes no more steps.
@@ -110,7 +168,7 @@ class RetreatAgent {
   std::uint32_t robot_id_;
   model::ModelParams model_;
   AgentParams agent_;
-  std::unique_ptr<Controller> controller_;
+  ControllerCopy controller_;  // copied by Controller::clone: a copied agent goes on alone
   std::uint64_t coin_key_;  // counter_uniform(coin_key_, k) is step k's coin
   OnsetWindow window_;
   double tolerance_;  // 1e-9·dt [s]
