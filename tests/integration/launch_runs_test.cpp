@@ -331,5 +331,33 @@ TEST(LaunchRuns, InACycloneStarTheBridgeHearsEveryAgent) {
   EXPECT_EQ(robots.size(), 12U) << "robots heard by the bridge: " << robots.size();
 }
 
+// More agent processes than one domain's block of well-known ports holds (participant indices
+// 0..119, which is why the built-in settings stop at 120: LaunchInput's capacity test): 130
+// agents in a Cyclone star, where agents take free ports and only the arena has an index. Every
+// agent matched, none lost, and the trajectory (with retreats: L = 3 s, K_p = 5) is the in-process
+// one. kinetic-1000 at its density on 9 m × 9 m, 6 s (200 ticks): some 15 s of wall time.
+TEST(LaunchRuns, ACycloneStarOf130AgentsBeyondOnePortBlockCompletesWithNoneLostAndTheInProcessTrajectory) {
+  if (!built("cyclonedds")) GTEST_SKIP() << "needs Cyclone DDS";
+  const std::string profiles = std::string(RETREAT_PROFILES) + "/";
+  const std::vector<std::string> scenario = {scenarios + "/kinetic-1000.yaml", "--set", "arena.robots_inside=130",
+                                             "--set", "arena.width=9", "--set", "arena.height=9", "--set",
+                                             "run.duration=6", "--set", "agent.L=3", "--set", "agent.K_p=5"};
+  const auto star = fresh_dir("cyclone-star-130");
+  ASSERT_EQ(run_launch(star, args(scenario, {"--dds", "cyclonedds", "--domain",
+                                             std::to_string(testing::domains::launch_star.at(0)), "--arena-profile",
+                                             profiles + "cyclonedds-star-hub.xml", "--set",
+                                             "dds.profile=" + profiles + "cyclonedds-star-agent.xml"})),
+            0)
+      << log_of(star);
+  const auto in_process = fresh_dir("cyclone-star-130-in-process");
+  ASSERT_EQ(run_launch(in_process, args(scenario, {"--in-process"})), 0) << log_of(in_process);
+  const auto s = read_json(star + "/run/summary.json");
+  EXPECT_EQ(s.at("agents").at("started"), 130) << log_of(star);
+  EXPECT_EQ(s.at("agents").at("matched"), 130) << log_of(star);
+  EXPECT_EQ(s.at("agents").at("lost"), 0) << log_of(star);
+  EXPECT_GT(s.at("agents").at("retreated").get<int>(), 0) << "the run exercises decisions";
+  EXPECT_EQ(s.at("trajectory_sha256"), read_json(in_process + "/run/summary.json").at("trajectory_sha256"));
+}
+
 }  // namespace
 }  // namespace retreat::launch_test

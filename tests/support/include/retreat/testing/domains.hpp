@@ -49,12 +49,14 @@ inline constexpr DomainBlock experiment{"retreat-experiment", 89, 1};
 inline constexpr DomainBlock robot_link_fastdds{"robot link, Fast DDS", 90, 5};
 inline constexpr DomainBlock mixed_swarm{"mixed real-and-simulated swarm", 95, 3};
 inline constexpr DomainBlock bridge{"retreat-bridge", 98, 3};
+inline constexpr DomainBlock launch_star{"retreat-launch, a star beyond one port block", 101, 1};
 inline constexpr DomainBlock multihost{"several hosts (network namespaces)", 150, 7, true};
 
 inline constexpr std::array all{robot_link_cyclonedds, pingpong_bench, arena_program, dds_profile_files,
                                 contract,              cross_vendor,   dds_profiles,  launch,
                                 security,              faults,         agent_program, experiment,
-                                robot_link_fastdds,    mixed_swarm,    bridge,        multihost};
+                                robot_link_fastdds,    mixed_swarm,    bridge,        launch_star,
+                                multihost};
 
 /// The lowest domain id whose well-known ports reach Linux's ephemeral range (32768..60999).
 inline constexpr int first_in_ephemeral_ports = 102;
