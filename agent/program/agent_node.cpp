@@ -6,6 +6,7 @@
 
 #include "retreat/agent/controller_registry.hpp"
 #include "retreat/core/seed.hpp"
+#include "retreat/scenario/params.hpp"
 #include "retreat/wire/topics.hpp"
 
 namespace retreat::agent {
@@ -39,18 +40,30 @@ AgentNode::AgentNode(const scenario::Scenario& scenario, std::uint32_t robot_id,
           {wire::proximity_topic(scenario.dds.prefix, robot_id), transport::QosIntent::control()})),
       decisions_(transport.create_writer<wire::Decision>(
           {wire::decision_topic(scenario.dds.prefix, robot_id), transport::QosIntent::answers()})),
+      clock_(scenario::frame_clock(scenario)),
+      plan_horizon_(scenario.run.plan_horizon),
       statuses_(transport.create_writer<wire::AgentStatus>(
           {wire::agent_status_topic(scenario.dds.prefix), transport::QosIntent::state()})) {
+  if (scenario.run.plans) {
+    plans_.emplace(transport.create_writer<wire::Decision>(
+        {wire::plan_topic(scenario.dds.prefix, robot_id), transport::QosIntent::answers()}));
+  }
   if (journal_path.empty()) return;
   journal_ = std::make_unique<FrameJournal>(journal_path, journal_header(scenario, robot_id), robot_id);
   for (const auto& f : journal_->recovered()) recover(f);
+  if (last_frame_) {
+    // A re-sent last frame gets the answer the dead process gave (or, with plans, one that
+    // decides the same: every plan from the same state agrees on the ticks it covers).
+    last_decision_ = answer(*last_frame_, FrameResult{FrameVerdict::accepted, false, agent_.retreating()});
+  }
 }
 
 void AgentNode::recover(const wire::ProximityFrame& frame) {
   ++counters_.frames_recovered;
   const auto result = agent_.on_frame(to_observation(frame));
   if (result.verdict != FrameVerdict::accepted) return;  // cannot happen for what handle() wrote
-  last_decision_ = wire::Decision{robot_id_, frame.tick, frame.time, result.retreating};
+  last_frame_ = frame;
+  last_answered_tick_ = frame.tick;
   last_retreating_ = result.retreating;
   departed_ = departed_ || frame.phase == wire::Phase::departed;
 }
@@ -107,26 +120,46 @@ void AgentNode::watch_decision_readers() {
 
 void AgentNode::handle(const wire::ProximityFrame& frame) {
   ++counters_.frames_received;
+  if (plans_) act_on_covered(frame.tick);
   const auto result = agent_.on_frame(to_observation(frame));
-  if (result.verdict == FrameVerdict::duplicate_tick && last_decision_ &&
-      last_decision_->tick == frame.tick) {
+  if (result.verdict == FrameVerdict::duplicate_tick && last_decision_ && last_answered_tick_ == frame.tick) {
     // A lockstep re-send: the arena has not seen our answer (it may have been written before the
-    // arena's reader matched our writer). Answer again with the recorded decision; the
+    // arena's reader matched our writer). Answer again with the recorded answer; the
     // algorithm does not see the frame twice (it was counted as a duplicate).
-    decisions_.write(*last_decision_);
+    (plans_ ? *plans_ : decisions_).write(*last_decision_);
     return;
   }
   if (result.verdict != FrameVerdict::accepted) return;
   // Journalled before it is answered: every answer the arena can have seen survives a restart.
-  if (journal_) journal_->append(frame);
-  // Every accepted frame is answered with this tick's decision (lockstep waits for it).
-  const wire::Decision decision{robot_id_, frame.tick, frame.time, result.retreating};
-  last_decision_ = decision;
-  if (decisions_.write(decision) == transport::WriteResult::ok) {
+  after_frame(frame, result);
+  // Every accepted frame is answered: with this tick's decision, or with a plan (lockstep waits).
+  last_decision_ = answer(frame, result);
+  last_answered_tick_ = frame.tick;
+  if ((plans_ ? *plans_ : decisions_).write(*last_decision_) == transport::WriteResult::ok) {
     ++counters_.decisions_sent;
   } else {
     ++counters_.write_failures;
   }
+}
+
+void AgentNode::act_on_covered(std::int64_t tick) {
+  if (!last_frame_ || tick <= last_frame_->tick + 1) return;
+  wire::ProximityFrame covered = *last_frame_;
+  covered.in_contact = false;
+  covered.new_onsets = 0;
+  for (std::int64_t t = last_frame_->tick + 1; t < tick; ++t) {
+    covered.tick = t;
+    covered.time = clock_.time(t);
+    const auto result = agent_.on_frame(to_observation(covered));
+    if (result.verdict != FrameVerdict::accepted) return;
+    ++counters_.frames_covered;
+    after_frame(covered, result);
+  }
+}
+
+void AgentNode::after_frame(const wire::ProximityFrame& frame, const FrameResult& result) {
+  if (journal_) journal_->append(frame);
+  last_frame_ = frame;
   const auto slot = static_cast<std::int64_t>(std::floor(frame.time / status_period_));
   const bool phase_end = frame.phase == wire::Phase::departed;
   if (slot != last_status_slot_ || result.retreating != last_retreating_ || phase_end) {
@@ -135,6 +168,24 @@ void AgentNode::handle(const wire::ProximityFrame& frame) {
     publish_status(frame.tick, frame.time);
   }
   departed_ = departed_ || phase_end;
+}
+
+wire::Decision AgentNode::answer(const wire::ProximityFrame& frame, const FrameResult& result) const {
+  if (!plans_ || result.retreat_now) return {robot_id_, frame.tick, frame.time, result.retreating};
+  // A plan needs the arena's frames on our frame clock, bit for bit; a frame off it (a scenario
+  // that differs from the arena's) gets a plan that covers nothing but its own tick.
+  if (frame.time != clock_.time(frame.tick)) {
+    if (!clock_warned_) {
+      clock_warned_ = true;
+      std::fprintf(stderr,
+                   "retreat-agent robot %u: frame %lld at %.17g s is not on the frame clock (%.17g s): "
+                   "answering without look-ahead (does the arena run another scenario?)\n",
+                   robot_id_, static_cast<long long>(frame.tick), frame.time, clock_.time(frame.tick));
+    }
+    return {robot_id_, frame.tick, frame.time, result.retreating};
+  }
+  const Plan plan = agent_.plan(clock_, plan_horizon_);
+  return {robot_id_, plan.through_tick, frame.time, result.retreating || plan.retreat_tick.has_value()};
 }
 
 void AgentNode::publish_status(std::int64_t tick, double time) {

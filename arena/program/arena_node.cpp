@@ -23,6 +23,13 @@ struct ArenaNode::Robot {
   std::uint32_t sensed_onsets = 0;  ///< the current frame's onsets as the robot's sensor reports them
   AgentRecord record;
   robot::Endpoints endpoints;  ///< the same endpoints a real robot's link uses
+  /// With run.plans: the agent's plan reader, and its last plan (the ticks it covers while the
+  /// robot's input stays unchanged: no sensed onset, and the phase of the frame it answered).
+  std::optional<transport::Reader<wire::Decision>> plans;
+  std::int64_t plan_through = -1;  ///< the last tick the plan covers (-1: none)
+  bool plan_retreat = false;       ///< the decision at plan_through
+  wire::Phase plan_phase = wire::Phase::waiting;
+  double frame_time = 0.0;         ///< the time of the last frame sent, which a plan must echo
   /// A real robot (arena.external_robots): its tracked poses, and what the arena knows of them.
   struct External {
     transport::Reader<wire::Poses> poses;
@@ -85,6 +92,7 @@ ArenaNode::Robot& ArenaNode::robot(std::uint32_t id) {
         .record = AgentRecord{next},
         .endpoints = robot::Endpoints(transport_, prefix, next),
         .external = nullptr}));
+    if (scenario_.run.plans) robots_.back()->plans.emplace(robot::plan_reader(transport_, prefix, next));
     if (next < scenario_.arena.external_robots) {
       robots_.back()->external = std::make_unique<Robot::External>(
           Robot::External{robot::tracked_pose_reader(transport_, prefix, next)});
@@ -99,7 +107,8 @@ std::uint32_t ArenaNode::wait_for_agents(std::chrono::nanoseconds timeout, const
   auto departed = [](const Robot& r) { return r.phase == wire::Phase::departed; };
   auto matched = [&](const Robot& r) {
     return departed(r) ? r.record.retreated
-                       : r.endpoints.matched() && (!r.external || r.external->has_pose);
+                       : r.endpoints.matched() && (!r.plans || r.plans->matched_count() > 0) &&
+                             (!r.external || r.external->has_pose);
   };
   for (;;) {
     take_external_poses();
@@ -193,6 +202,17 @@ void ArenaNode::publish_tick() {
     // A lost agent gets no more frames: a reliable writer would otherwise queue them for a
     // reader that never acknowledges, and block once its history is full.
     if (r.record.lost) continue;
+    if (r.plans) {
+      if (f.tick <= r.plan_through && r.sensed_onsets == 0 && r.phase == r.plan_phase) {
+        // Covered: the agent decided this tick already, in the plan it answered with.
+        ++counters_.planned;
+        if (r.expecting) act_on_answer(r, f.tick == r.plan_through && r.plan_retreat);
+        r.answered = true;
+        continue;
+      }
+      r.plan_through = -1;  // the input changed, or the plan ended: the agent answers this frame
+      r.frame_time = f.time;
+    }
     if (r.endpoints.frames.write(frame) != transport::WriteResult::ok && r.expecting) {
       // The agent's reader has stopped acknowledging: treat it like a silent agent.
       r.expecting = false;
@@ -224,7 +244,43 @@ void ArenaNode::publish_observations() {
   poses_.write(poses);
 }
 
+void ArenaNode::act_on_answer(Robot& r, bool retreat) {
+  if (retreat && !r.record.retreated) {
+    r.record.retreated = true;
+    r.record.retreat_at = world_->telemetry().time;
+  }
+  r.retreat = r.retreat || retreat;
+}
+
+void ArenaNode::take_plans(Robot& r, std::int64_t current) {
+  r.plans->take(taken_);
+  for (const auto& p : taken_) {
+    if (r.phase == wire::Phase::departed) continue;  // the answer to its last frame: nothing to do
+    if (p.robot_id >= world_->robot_count()) {
+      ++counters_.unknown_robot;
+    } else if (const auto verdict = robot::judge_plan(p, current, r.frame_time);
+               verdict == robot::DecisionVerdict::future) {
+      ++counters_.future;
+    } else if (verdict == robot::DecisionVerdict::stale || r.record.lost) {
+      ++counters_.stale;  // answers a frame that is settled, or came from a lost agent
+    } else {
+      ++counters_.received;
+      r.answered = true;
+      r.plan_through = p.tick;
+      r.plan_retreat = p.retreat;
+      r.plan_phase = r.phase;
+      // The decision at this tick: the plan's own if it ends here; before its end, no retreat
+      // (an agent that had decided is commanded already, and its retreat stays).
+      act_on_answer(r, p.tick == current && p.retreat);
+    }
+  }
+}
+
 void ArenaNode::take_decisions(Robot& r, std::int64_t current) {
+  if (r.plans) {
+    take_plans(r, current);
+    return;
+  }
   const bool lockstep = scenario_.run.mode == scenario::RunMode::lockstep;
   r.endpoints.decisions.take(taken_);
   for (const auto& d : taken_) {
@@ -238,11 +294,7 @@ void ArenaNode::take_decisions(Robot& r, std::int64_t current) {
     } else {
       ++counters_.received;
       if (d.tick == current) r.answered = true;
-      if (d.retreat && !r.record.retreated) {
-        r.record.retreated = true;
-        r.record.retreat_at = world_->telemetry().time;
-      }
-      r.retreat = r.retreat || d.retreat;
+      act_on_answer(r, d.retreat);
     }
   }
 }
@@ -357,7 +409,10 @@ bool ArenaNode::finished() const {
 DecisionCounters ArenaNode::decisions() const {
   DecisionCounters c = counters_;
   c.invalid = 0;
-  for (const auto& r : robots_) c.invalid += r->endpoints.decisions.stats().dropped_total();
+  for (const auto& r : robots_) {
+    c.invalid += r->endpoints.decisions.stats().dropped_total();
+    if (r->plans) c.invalid += r->plans->stats().dropped_total();
+  }
   return c;
 }
 
@@ -380,6 +435,7 @@ RunSummary ArenaNode::finish(double wall_seconds) {
   s.decisions_dropped = counters.stale + counters.future + counters.unknown_robot + counters.invalid;
   s.frames_resent = counters_.resent_frames;
   s.decisions_received = counters_.received;
+  s.decisions_planned = counters_.planned;
   s.resumed_at_tick = resumed_at_tick_;
   s.trajectory_sha256 = hash_.finish();
   s.dds = std::string(transport_.vendor());

@@ -17,7 +17,9 @@
 #
 # Usage:
 #   deploy/bench/lockstep_scale.sh [--agents "12 50 100 200"] [--vendors "fastdds cyclonedds"]
-#       [--duration S] [--domain ID] [--out DIR] [--launcher PATH]
+#       [--duration S] [--domain ID] [--out DIR] [--launcher PATH] [--plans]
+#   --plans           event-driven lockstep (run.plans: agents answer with plans, a robot gets a
+#                     frame only when its input changes or its plan ends; docs/protocol.md §6)
 #   --launcher PATH   retreat-launch (default: $RETREAT_BUILD_DIR/deploy/launch/retreat-launch,
 #                     RETREAT_BUILD_DIR defaulting to ./build)
 #   --domain ID       DDS domain id of the runs (default 150)
@@ -33,7 +35,11 @@ agents_list="12 50 100 200"
 vendors="fastdds cyclonedds"
 duration=60
 domain=150
-bench_option() { if [ "$1" = --agents ]; then agents_list=$2; taken=2; fi; }
+plans=false
+bench_option() {
+  if [ "$1" = --agents ]; then agents_list=$2; taken=2; fi
+  if [ "$1" = --plans ]; then plans=true; taken=1; fi
+}
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 bench_parse "$@"
 bench_prepare retreat-lockstep-scale
@@ -73,7 +79,7 @@ for vendor in $vendors; do
       --set arena.width="$side" --set arena.height="$side" \
       --set arena.robots_inside="$n" --set arena.robots_waiting=0 --set arena.queue=finite \
       --set agent.K_p=0 --set agent.lambda_in=0 --set run.duration="$duration" \
-      --set run.startup_timeout=240 --set run.agent_timeout=10 \
+      --set run.startup_timeout=240 --set run.agent_timeout=10 --set run.plans="$plans" \
       "${profile_args[@]}" > "$out/${vendor}_$n.log" 2>&1 &
     launch_pid=$!
     while kill -0 "$launch_pid" 2>/dev/null; do
@@ -86,16 +92,17 @@ for vendor in $vendors; do
     code=0
     wait "$launch_pid" || code=$?
     mem=$(cat "$out"/.rss.* 2>/dev/null | awk '{r += $1; p += $2; k++} END {if (k) printf "%.1f %.1f", r / k / 1024, p / k / 1024; else print "- -"}')
-    line=$(python3 - "$run/summary.json" "$vendor" "$n" "$code" $mem <<'EOF'
+    line=$(python3 - "$run/summary.json" "$vendor" "$n" "$code" $mem "$plans" <<'EOF'
 import json, sys
-path, vendor, n, code, rss, pss = sys.argv[1:7]
+path, vendor, n, code, rss, pss, plans = sys.argv[1:8]
 try:
     j = json.load(open(path))
 except Exception:
     print(f"vendor={vendor} agents={n} exit={code} no summary.json")
     sys.exit(0)
 l = j.get("launch", {})
-print(f"vendor={vendor} agents={n} exit={code} ticks={j['ticks']} ticks_per_second={j['ticks_per_second']:.0f} "
+print(f"vendor={vendor} agents={n} plans={plans} exit={code} ticks={j['ticks']} ticks_per_second={j['ticks_per_second']:.0f} "
+      f"answers={j.get('decisions_received')} planned={j.get('decisions_planned')} run_s={j.get('wall_seconds', 0):.2f} "
       f"startup_s={l.get('seconds_to_first_tick', -1):.2f} matched={j['agents'].get('matched')} "
       f"lost={j['agents']['lost']} agent_rss_mib={rss} agent_pss_mib={pss} wall_s={l.get('wall_seconds', 0):.1f}")
 EOF

@@ -144,6 +144,7 @@ governance=$(cat <<EOF
       <topic_access_rules>
 $(topic_rule "$prefix/robot_*/proximity")
 $(topic_rule "$prefix/robot_*/decision")
+$(topic_rule "$prefix/robot_*/plan")
 $(topic_rule "$prefix/robot_*/tracked_pose")
 $(topic_rule "$prefix/agent_status")
 $(topic_rule "$prefix/arena_telemetry")
@@ -199,14 +200,15 @@ EOF
 
 for ((r = robot_lo; r <= robot_hi; ++r)); do
   identity "robot_$r"
-  permissions "robot_$r" "$prefix/robot_$r/decision $prefix/agent_status" "$prefix/robot_$r/proximity"
+  permissions "robot_$r" "$prefix/robot_$r/decision $prefix/robot_$r/plan $prefix/agent_status" \
+    "$prefix/robot_$r/proximity"
   # The real robot r's own link (docs/robot-guide.md): its frames or tracked pose, its decisions.
   identity "driver_$r"
   permissions "driver_$r" "$prefix/robot_$r/proximity $prefix/robot_$r/tracked_pose" "$prefix/robot_$r/decision"
 done
 identity arena
 permissions arena "$prefix/robot_*/proximity $prefix/arena_telemetry $prefix/poses" \
-  "$prefix/robot_*/decision $prefix/robot_*/tracked_pose"
+  "$prefix/robot_*/decision $prefix/robot_*/plan $prefix/robot_*/tracked_pose"
 identity bridge
 permissions bridge "" "$prefix/arena_telemetry $prefix/poses $prefix/agent_status"
 

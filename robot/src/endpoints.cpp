@@ -14,6 +14,11 @@ transport::Reader<wire::Decision> decision_reader(transport::Transport& transpor
   return transport.create_reader<wire::Decision>({wire::decision_topic(prefix, id), transport::QosIntent::control()});
 }
 
+transport::Reader<wire::Decision> plan_reader(transport::Transport& transport, const std::string& prefix,
+                                              wire::RobotId id) {
+  return transport.create_reader<wire::Decision>({wire::plan_topic(prefix, id), transport::QosIntent::control()});
+}
+
 transport::Writer<wire::Poses> tracked_pose_writer(transport::Transport& transport, const std::string& prefix,
                                                    wire::RobotId id) {
   return transport.create_writer<wire::Poses>({wire::tracked_pose_topic(prefix, id), transport::QosIntent::control()});
@@ -27,6 +32,12 @@ transport::Reader<wire::Poses> tracked_pose_reader(transport::Transport& transpo
 DecisionVerdict judge(const wire::Decision& d, std::int64_t current, bool lockstep) {
   if (d.tick > current) return DecisionVerdict::future;
   if (lockstep && d.tick < current) return DecisionVerdict::stale;
+  return DecisionVerdict::accepted;
+}
+
+DecisionVerdict judge_plan(const wire::Decision& plan, std::int64_t tick, double time) {
+  if (plan.time > time) return DecisionVerdict::future;
+  if (plan.time < time || plan.tick < tick) return DecisionVerdict::stale;
   return DecisionVerdict::accepted;
 }
 

@@ -239,7 +239,8 @@ TEST(Faults, ALockstepArenaResumedByHandGivesTheUninterruptedTrajectory) {
 struct Vendor {
   const char* name;
   int domain;
-  friend void PrintTo(const Vendor& v, std::ostream* os) { *os << v.name; }
+  bool plans = false;  ///< run.plans (with a 2-tick horizon: frames every other tick or so)
+  friend void PrintTo(const Vendor& v, std::ostream* os) { *os << v.name << (v.plans ? " with plans" : ""); }
 };
 
 class LauncherResumesLockstep : public ::testing::TestWithParam<Vendor> {};
@@ -278,6 +279,11 @@ TEST_P(LauncherResumesLockstep, AnArenaKilledMidRunAndTheRunHasTheUninterruptedT
   for (const auto& a : {std::string("--dds"), vendor, std::string("--domain"), std::to_string(GetParam().domain)}) {
     args.push_back(a);
   }
+  if (GetParam().plans) {
+    // Event-driven lockstep: the new arena takes over with no plan and asks every robot; each
+    // agent acts first on the ticks the dead arena covered with its plan (docs/protocol.md §6).
+    args.insert(args.end(), {"--set", "run.plans=true", "--set", "run.plan_horizon=2"});
+  }
   auto l = start_launch(dir, args);
   json before;
   ASSERT_TRUE(testing::eventually(
@@ -313,8 +319,12 @@ TEST_P(LauncherResumesLockstep, AnArenaKilledMidRunAndTheRunHasTheUninterruptedT
 
 INSTANTIATE_TEST_SUITE_P(Vendors, LauncherResumesLockstep,
                          ::testing::Values(Vendor{"fastdds", domain_launcher_resumes_lockstep_fastdds},
-                                           Vendor{"cyclonedds", domain_launcher_resumes_lockstep_cyclonedds}),
-                         [](const auto& param_info) { return std::string(param_info.param.name); });
+                                           Vendor{"cyclonedds", domain_launcher_resumes_lockstep_cyclonedds},
+                                           Vendor{"fastdds", testing::domains::launch_plans.at(4), true},
+                                           Vendor{"cyclonedds", testing::domains::launch_plans.at(5), true}),
+                         [](const auto& param_info) {
+                           return std::string(param_info.param.name) + (param_info.param.plans ? "_plans" : "");
+                         });
 
 /// The shipped loopback profile plus Fast DDS's shared-memory transport: what a user's profile
 /// with Fast DDS defaults does (retreat's own profiles never use shared memory).

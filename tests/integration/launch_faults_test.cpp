@@ -77,6 +77,37 @@ TEST(LaunchFaults, TwoAgentsKilledMidRunAreCountedLostAndTheRunCompletes) {
   EXPECT_TRUE(alive(child_pids(processes)).empty());
 }
 
+TEST(LaunchFaults, WithPlansTwoAgentsKilledWhileTheirPlansAreInForceAreCountedLostAndTheRunCompletes) {
+  // run.plans with a 2-tick horizon: a frame every other tick or so, so the run leaves the test
+  // seconds of wall time to kill in; K_p = λ_in = 0: nobody retreats, robots 0 and 1 stay inside
+  // the whole 1,200 s, and their agents' deaths are found out at the next frame their plans leave
+  // to the arena (no answer within run.agent_timeout: lost), whenever they die after t = 1 s.
+  const std::string vendor = built("fastdds") ? "fastdds" : "cyclonedds";
+  const int domain = testing::domains::launch_plans.at(3);
+  const auto dir = fresh_dir("kill-agents-plans");
+  auto l = start_launch(dir, {robotarium, "--dds", vendor, "--domain", std::to_string(domain), "--set",
+                              "run.agent_timeout=1", "--set", "run.plans=true", "--set", "run.plan_horizon=2",
+                              "--set", "agent.K_p=0", "--set", "agent.lambda_in=0"});
+  const auto processes = wait_for_processes(l.out);
+  ASSERT_EQ(processes["agents"].size(), 12u) << log_of(dir);
+  ASSERT_TRUE(wait_for_simulated_time(vendor, domain, 1.0)) << log_of(dir);
+  for (int robot : {0, 1}) {
+    const pid_t pid = pid_of_agent(processes, robot);
+    ASSERT_GT(pid, 0);
+    ASSERT_EQ(::kill(pid, SIGKILL), 0);
+  }
+  const auto code = l.process.wait_for(retreat::testing::hang_ceiling);
+  ASSERT_TRUE(code.has_value()) << "the launcher did not finish; " << log_of(dir);
+  EXPECT_EQ(*code, 0) << log_of(dir);
+  const auto j = read_json(l.out + "/summary.json");
+  ASSERT_FALSE(j.empty()) << log_of(dir);
+  EXPECT_EQ(j["agents"]["lost"], 2);
+  EXPECT_EQ(j["agents"]["retreated"], 0);
+  EXPECT_EQ(j["ticks"], 40000);
+  EXPECT_GT(j["decisions_planned"].get<std::uint64_t>(), 0u);
+  EXPECT_TRUE(alive(child_pids(processes)).empty());
+}
+
 TEST(LaunchFaults, AnArenaKilledMoreOftenThanItIsResumedStopsEveryChildAndTheLauncherFails) {
   const std::string vendor = built("fastdds") ? "fastdds" : "cyclonedds";
   const auto dir = fresh_dir("kill-arena");

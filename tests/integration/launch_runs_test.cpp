@@ -331,6 +331,36 @@ TEST(LaunchRuns, InACycloneStarTheBridgeHearsEveryAgent) {
   EXPECT_EQ(robots.size(), 12U) << "robots heard by the bridge: " << robots.size();
 }
 
+// Event-driven lockstep (run.plans) over real DDS processes, each vendor and mixed: the 1,200 s
+// robotarium run (40,000 ticks, robots retreating) has the per-tick in-process trajectory, with
+// a few hundred answers instead of one per robot per tick. Every controller, scenario and both
+// queues in one process: tests/scenario/plans_equivalence_test.cpp.
+TEST(LaunchRuns, PlansOverFastDdsCycloneDdsAndMixedGiveThePerTickTrajectoryWithFewAnswers) {
+  if (!built("fastdds") || !built("cyclonedds")) GTEST_SKIP() << "needs both vendors";
+  const auto in_process = fresh_dir("plans-in-process");
+  ASSERT_EQ(run_launch(in_process, {robotarium, "--in-process"}), 0) << log_of(in_process);
+  const auto per_tick = read_json(in_process + "/run/summary.json");
+  ASSERT_FALSE(per_tick.empty()) << log_of(in_process);
+  int domain = testing::domains::launch_plans.first;
+  for (const char* vendor : {"fastdds", "cyclonedds", "mixed"}) {
+    const auto dir = fresh_dir(std::string("plans-") + vendor);
+    ASSERT_EQ(run_launch(dir, {robotarium, "--dds", vendor, "--domain", std::to_string(domain++), "--set",
+                               "run.plans=true"}),
+              0)
+        << log_of(dir);
+    const auto j = read_json(dir + "/run/summary.json");
+    ASSERT_FALSE(j.empty()) << log_of(dir);
+    EXPECT_EQ(j["trajectory_sha256"], per_tick["trajectory_sha256"]) << vendor;
+    EXPECT_EQ(j["agents"]["lost"], 0) << vendor;
+    EXPECT_GT(j["agents"]["retreated"].get<int>(), 0) << vendor;
+    // Per tick, every robot answers every tick (some 124,000 answers); with plans, a robot is
+    // asked only when its input changes or its plan (500 ticks at most) ends.
+    EXPECT_LT(j["decisions_received"].get<std::uint64_t>(), per_tick["decisions_received"].get<std::uint64_t>() / 20)
+        << vendor;
+    EXPECT_GT(j["decisions_planned"].get<std::uint64_t>(), j["decisions_received"].get<std::uint64_t>()) << vendor;
+  }
+}
+
 // More agent processes than one domain's block of well-known ports holds (participant indices
 // 0..119, which is why the built-in settings stop at 120: LaunchInput's capacity test): 130
 // agents in a Cyclone star, where agents take free ports and only the arena has an index. Every

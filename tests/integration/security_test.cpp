@@ -76,13 +76,13 @@ TEST(SwarmPki, MakesOneIdentityPerRobotArenaAndBridgeAndKeepsThemOnASecondRun) {
       EXPECT_TRUE(std::filesystem::is_regular_file(pki + "/" + id + "/" + file)) << id << "/" << file;
     }
   }
-  // Agent 3 may read only its robot's proximity frames and write only its decision and status.
+  // Agent 3 may read only its robot's proximity frames and write only its decision (or plan) and status.
   const auto robot3 = testing::read_file(pki + "/robot_3/permissions.xml");
   EXPECT_NE(robot3.find("<subject_name>CN=robot_3,O=retreat,C=ZZ</subject_name>"), std::string::npos);
   EXPECT_NE(robot3.find("<subscribe><topics><topic>retreat/robot_3/proximity</topic></topics></subscribe>"),
             std::string::npos) << robot3;
   EXPECT_NE(robot3.find("<publish><topics><topic>retreat/robot_3/decision</topic>"
-                        "<topic>retreat/agent_status</topic></topics></publish>"),
+                        "<topic>retreat/robot_3/plan</topic><topic>retreat/agent_status</topic></topics></publish>"),
             std::string::npos) << robot3;
   EXPECT_EQ(testing::read_file(pki + "/bridge/permissions.xml").find("<publish>"), std::string::npos);
 
@@ -147,6 +147,14 @@ TEST_P(SecureSwarm, CompletesWithThePlainRunsTrajectoryHash) {
   EXPECT_LE(safe["decisions_dropped"].get<std::uint64_t>(), safe["frames_resent"].get<std::uint64_t>());
   EXPECT_GT(plain["agents"]["retreated"].get<int>(), 0);  // the hash depends on the agents' decisions
   EXPECT_EQ(safe["trajectory_sha256"], plain["trajectory_sha256"]);
+  // Event-driven lockstep: the agents' plans pass the permissions too (robot_<i>/plan).
+  auto planned_args = secure(run_args(vendor, domain), pki);
+  planned_args.insert(planned_args.end(), {"--set", "run.plans=true"});
+  const auto planned = run_swarm(dir + "/secure-plans", planned_args);
+  ASSERT_FALSE(planned.empty());
+  EXPECT_EQ(planned["agents"]["lost"], 0);
+  EXPECT_GT(planned["decisions_planned"].get<std::uint64_t>(), 0u);
+  EXPECT_EQ(planned["trajectory_sha256"], plain["trajectory_sha256"]);
 }
 
 INSTANTIATE_TEST_SUITE_P(Vendor, SecureSwarm,

@@ -16,6 +16,7 @@ std::string proximity_topic(const std::string& prefix, RobotId robot) {
 std::string decision_topic(const std::string& prefix, RobotId robot) {
   return robot_topic(prefix, robot, "decision");
 }
+std::string plan_topic(const std::string& prefix, RobotId robot) { return robot_topic(prefix, robot, "plan"); }
 std::string tracked_pose_topic(const std::string& prefix, RobotId robot) {
   return robot_topic(prefix, robot, "tracked_pose");
 }

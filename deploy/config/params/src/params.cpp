@@ -66,6 +66,8 @@ void validate_run(const RunParams& r) {
         num(r.status_period), "must be > 0 (s)");
   check(std::isfinite(r.telemetry_period) && r.telemetry_period > 0, "run.telemetry_period",
         num(r.telemetry_period), "must be > 0 (s)");
+  check(r.plan_horizon >= 1 && r.plan_horizon <= 1000000, "run.plan_horizon", std::to_string(r.plan_horizon),
+        "must be in 1..1000000 (ticks)");
 }
 
 void validate_dds(const DdsParams& d) {
@@ -172,6 +174,8 @@ void validate(const Scenario& s) {
         "arena.external_robots", std::to_string(s.arena.external_robots),
         "must be 0 unless run.mode is realtime over DDS (a real robot keeps its own clock and "
         "publishes its pose over DDS)");
+  check(!s.run.plans || s.run.mode == RunMode::lockstep, "run.plans", "true",
+        "needs run.mode lockstep (in real time every frame is sent when it happens)");
 }
 
 std::vector<std::string> known_keys() { return key_index().keys; }
@@ -179,6 +183,11 @@ std::vector<std::string> known_keys() { return key_index().keys; }
 bool has_robot(const Scenario& s, std::uint64_t robot_id) {
   if (s.arena.queue == physics::QueueKind::endless) return robot_id <= 0xFFFFFFFFull;
   return robot_id < static_cast<std::uint64_t>(s.arena.robots_inside) + s.arena.robots_waiting;
+}
+
+agent::FrameClock frame_clock(const Scenario& s) {
+  if (s.arena.encounter_model == physics::EncounterModel::kinetic) return {1, s.arena.tick_dt};
+  return {physics::substeps_per_tick(s.arena), s.arena.physics_dt};
 }
 
 }  // namespace retreat::scenario

@@ -31,6 +31,11 @@ struct Endpoints {
   bool matched() const { return frames.matched_count() > 0 && decisions.matched_count() > 0; }
 };
 
+/// With run.plans: robot @p id's plan reader (`<prefix>/robot_<id>/plan`, Decision samples
+/// meaning a plan, see wire::plan_topic), with the control QoS: the arena's side.
+transport::Reader<wire::Decision> plan_reader(transport::Transport& transport, const std::string& prefix,
+                                              wire::RobotId id);
+
 /// A real robot's tracked pose in a mixed swarm (`<prefix>/robot_<id>/tracked_pose`, a Poses
 /// sample with arena_id = id and one RobotPose of robot id), with the control QoS: the robot's
 /// writer and the arena's reader.
@@ -49,5 +54,10 @@ enum class DecisionVerdict {
 /// The verdict on decision @p d when the newest published tick is @p current. In real time a
 /// late decision (tick < current) is accepted; in lockstep only the current tick's answer is.
 DecisionVerdict judge(const wire::Decision& d, std::int64_t current, bool lockstep);
+
+/// The verdict on plan @p plan when the frame awaiting an answer is tick @p tick at @p time: it
+/// answers that frame if it carries the frame's time and covers at least its tick; one with a
+/// later time answers a frame not yet published (future), any other an earlier one (stale).
+DecisionVerdict judge_plan(const wire::Decision& plan, std::int64_t tick, double time);
 
 }  // namespace retreat::robot

@@ -22,7 +22,10 @@ namespace retreat::agent {
 struct NodeCounters {
   std::uint64_t frames_received = 0;  ///< valid on the wire, handed to the algorithm
   std::uint64_t frames_dropped = 0;   ///< invalid on the wire, or rejected by the algorithm
-  std::uint64_t decisions_sent = 0;
+  std::uint64_t decisions_sent = 0;  ///< answers written: decisions, or plans with run.plans
+  /// With run.plans: frames the arena did not send, covered by our plan and acted on here with
+  /// no new onset and the last frame's phase, at the frame clock's times (scenario::frame_clock).
+  std::uint64_t frames_covered = 0;
   std::uint64_t statuses_sent = 0;
   std::uint64_t write_failures = 0;
   /// Arena incarnations seen: participants that matched this robot's decision topic as readers
@@ -35,8 +38,9 @@ struct NodeCounters {
 class AgentNode {
  public:
   /// Creates the endpoints: a reader on `<prefix>/robot_<id>/proximity` only, writers on
-  /// `<prefix>/robot_<id>/decision` (QosIntent::answers(): a dead arena cannot block it) and
-  /// `<prefix>/agent_status`. With @p journal_path, every accepted frame is journalled there
+  /// `<prefix>/robot_<id>/decision` (QosIntent::answers(): a dead arena cannot block it),
+  /// with run.plans `<prefix>/robot_<id>/plan` (the same QoS; every frame is then answered with
+  /// a plan, RetreatAgent::plan, instead of a decision), and `<prefix>/agent_status`. With @p journal_path, every accepted frame is journalled there
   /// before it is answered, and the frames an earlier process journalled are acted on first, so
   /// that the agent resumes exactly where that process stopped (FrameJournal; its errors pass on).
   AgentNode(const scenario::Scenario& scenario, std::uint32_t robot_id, transport::Transport& transport,
@@ -61,6 +65,13 @@ class AgentNode {
 
  private:
   void handle(const wire::ProximityFrame& frame);
+  /// With run.plans: acts on the frames between the last accepted one and @p tick, which the
+  /// arena covered with our plan (no new onset, the last frame's phase, the frame clock's times).
+  void act_on_covered(std::int64_t tick);
+  /// Acts on one accepted frame's aftermath: journal, status (shared by sent and covered frames).
+  void after_frame(const wire::ProximityFrame& frame, const FrameResult& result);
+  /// This frame's answer: the decision, or with run.plans the plan.
+  wire::Decision answer(const wire::ProximityFrame& frame, const FrameResult& result) const;
   /// Acts on a journalled frame again, publishing nothing.
   void recover(const wire::ProximityFrame& frame);
   void publish_status(std::int64_t tick, double time);
@@ -73,9 +84,15 @@ class AgentNode {
   RetreatAgent agent_;
   transport::Reader<wire::ProximityFrame> frames_;
   transport::Writer<wire::Decision> decisions_;
+  std::optional<transport::Writer<wire::Decision>> plans_;  ///< with run.plans
+  FrameClock clock_;
+  std::int64_t plan_horizon_;
   transport::Writer<wire::AgentStatus> statuses_;
   NodeCounters counters_;
-  std::optional<wire::Decision> last_decision_;
+  std::optional<wire::Decision> last_decision_;  ///< the last answer written (a plan with run.plans)
+  std::int64_t last_answered_tick_ = -1;          ///< the frame tick it answers
+  std::optional<wire::ProximityFrame> last_frame_;  ///< the last accepted frame (sent or covered)
+  mutable bool clock_warned_ = false;
   std::int64_t last_status_slot_ = -1;
   bool last_retreating_ = false;
   bool departed_ = false;

@@ -33,7 +33,8 @@ struct DecisionCounters {
   std::uint64_t unknown_robot = 0;  ///< robot the world does not have
   std::uint64_t invalid = 0;        ///< dropped by the transport's validation
   std::uint64_t resent_frames = 0;  ///< lockstep frames sent again because no answer came
-  std::uint64_t received = 0;       ///< valid decisions taken from the wire
+  std::uint64_t received = 0;       ///< valid decisions (or plans) taken from the wire
+  std::uint64_t planned = 0;        ///< run.plans: robot-ticks decided by a plan, no frame sent
 };
 
 class ArenaNode {
@@ -91,6 +92,10 @@ class ArenaNode {
   struct Robot;
   Robot& robot(std::uint32_t id);
   void take_decisions(Robot& r, std::int64_t current);
+  /// run.plans: takes robot @p r's plans; one that answers the frame awaiting an answer is kept.
+  void take_plans(Robot& r, std::int64_t current);
+  /// Acts on robot @p r's decision for the current tick (from the wire or from its plan).
+  void act_on_answer(Robot& r, bool retreat);
   /// Real robots: applies every valid tracked pose that arrived (dropping and counting those
   /// going back in time or jumping), then freezes or loses those whose pose is too old.
   void take_external_poses();

@@ -19,6 +19,13 @@ inline constexpr const char* arena_user_data = "retreat:arena";
 
 std::string proximity_topic(const std::string& prefix, RobotId robot);  ///< <p>/robot_<id>/proximity
 std::string decision_topic(const std::string& prefix, RobotId robot);   ///< <p>/robot_<id>/decision
+/// <p>/robot_<id>/plan: with run.plans, an agent's answer to a frame as a plan, agent -> arena.
+/// A Decision sample whose fields mean: `time` the answered frame's time (which frame it
+/// answers), `tick` the last tick the plan covers (>= the answered frame's tick), `retreat` the
+/// decision at `tick`; at the ticks before it the decision stays what it was at the answered
+/// frame (no retreat, unless the agent had decided before). Valid while the robot's input stays
+/// unchanged: no new onset and the answered frame's phase (docs/protocol.md §6).
+std::string plan_topic(const std::string& prefix, RobotId robot);
 /// <p>/robot_<id>/tracked_pose: a real robot's pose in a mixed swarm (a Poses sample with
 /// arena_id = id and one RobotPose of robot id), real robot -> arena.
 std::string tracked_pose_topic(const std::string& prefix, RobotId robot);

@@ -38,7 +38,8 @@ inline constexpr DomainBlock robot_link_cyclonedds{"robot link, Cyclone DDS", 1,
 inline constexpr DomainBlock pingpong_bench{"ping-pong benchmark (6 Fast DDS, 7 Cyclone DDS)", 6, 2};
 inline constexpr DomainBlock arena_program{"arena program", 8, 1};
 inline constexpr DomainBlock dds_profile_files{"DDS profile files in one process", 9, 1};
-inline constexpr DomainBlock contract{"transport contract (by test name)", 10, 30};
+inline constexpr DomainBlock contract{"transport contract (by test name)", 10, 24};
+inline constexpr DomainBlock launch_plans{"retreat-launch with run.plans", 34, 6};
 inline constexpr DomainBlock cross_vendor{"cross-vendor wire", 40, 2};
 inline constexpr DomainBlock dds_profiles{"DDS profiles", 42, 8};
 inline constexpr DomainBlock launch{"retreat-launch", 50, 15};
@@ -53,7 +54,7 @@ inline constexpr DomainBlock launch_star{"retreat-launch, a star beyond one port
 inline constexpr DomainBlock multihost{"several hosts (network namespaces)", 150, 7, true};
 
 inline constexpr std::array all{robot_link_cyclonedds, pingpong_bench, arena_program, dds_profile_files,
-                                contract,              cross_vendor,   dds_profiles,  launch,
+                                contract,              launch_plans,   cross_vendor,   dds_profiles,  launch,
                                 security,              faults,         agent_program, experiment,
                                 robot_link_fastdds,    mixed_swarm,    bridge,        launch_star,
                                 multihost};

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "retreat/agent/agent_params.hpp"
+#include "retreat/agent/retreat_agent.hpp"
 #include "retreat/core/enum_names.hpp"
 #include "retreat/model/params.hpp"
 #include "retreat/physics/params.hpp"
@@ -58,6 +59,11 @@ struct RunParams {
   double startup_timeout = 60.0;  ///< lockstep: how long the arena waits for agents to match [wall s]
   double status_period = 1.0;     ///< agents publish their status this often [simulated s], > 0
   double telemetry_period = 0.1;  ///< the arena publishes telemetry and poses this often [simulated s]
+  /// Lockstep only: agents answer a frame with a plan, their decisions for the coming ticks while
+  /// their robot's input stays unchanged, and the arena sends a robot a frame only when its input
+  /// changes or its plan ends (event-driven lockstep; docs/protocol.md §6). Same trajectory.
+  bool plans = false;
+  std::uint32_t plan_horizon = 500;  ///< ticks a plan covers at most, 1..1,000,000
 
   template <class Archive>
   void serialize(Archive& a) {
@@ -68,6 +74,8 @@ struct RunParams {
     a("startup_timeout", startup_timeout);
     a("status_period", status_period);
     a("telemetry_period", telemetry_period);
+    a("plans", plans);
+    a("plan_horizon", plan_horizon);
   }
 };
 
@@ -139,5 +147,10 @@ std::vector<std::string> known_keys();
 /// Robot ids an agent may serve: 0 .. robots_inside + robots_waiting − 1 for a finite queue;
 /// any id for an endless queue.
 bool has_robot(const Scenario& scenario, std::uint64_t robot_id);
+
+/// When the arena's frames are: frame `tick` at static_cast<double>(tick · multiplier) · period,
+/// computed as the world computes it (kinetic: 1 × agent.dt; physical: the physics steps per tick
+/// × arena.physics_dt), so that an agent planning ahead knows its coming frames' times exactly.
+agent::FrameClock frame_clock(const Scenario& scenario);
 
 }  // namespace retreat::scenario
