@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 #include "retreat/testing/domains.hpp"
 #include "retreat/testing/process.hpp"
 #include "retreat/transport/factory.hpp"
@@ -26,11 +28,14 @@ void exchange(const Pair& pair, int domain) {
   }
   const std::string dir = ::testing::TempDir();
   const std::string tag = std::string(pair.writer) + "_to_" + pair.reader;
+  // The writer starts writing once the reader says it has matched (the --ready file).
+  const std::string ready = dir + "/probe_ready_" + tag;
+  std::filesystem::remove(ready);
   ChildProcess reader({RETREAT_WIRE_PROBE, "--role", "reader", "--dds", pair.reader, "--domain",
-                       std::to_string(domain), "--count", "1000"},
+                       std::to_string(domain), "--count", "1000", "--ready", ready, "--prefix", "probe_" + tag},
                       dir + "/probe_reader_" + tag + ".log");
   ChildProcess writer({RETREAT_WIRE_PROBE, "--role", "writer", "--dds", pair.writer, "--domain",
-                       std::to_string(domain), "--count", "1000"},
+                       std::to_string(domain), "--count", "1000", "--ready", ready, "--prefix", "probe_" + tag},
                       dir + "/probe_writer_" + tag + ".log");
   const auto reader_code = reader.wait_for(retreat::testing::hang_ceiling);
   const auto writer_code = writer.wait_for(retreat::testing::hang_ceiling);

@@ -9,6 +9,8 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <thread>
 
@@ -40,27 +42,27 @@ bool check(const std::vector<M>& got, int count, Make make, const char* what) {
   return true;
 }
 
-int run_writer(transport::Transport& t, const Topics& topics, int count) {
+/// @p ready: the file the reader creates once every one of its readers is matched (empty: none).
+int run_writer(transport::Transport& t, const Topics& topics, int count, const std::string& ready) {
   const auto q = transport::QosIntent::control();
   auto frames = t.create_writer<wire::ProximityFrame>({topics.frame, q});
   auto decisions = t.create_writer<wire::Decision>({topics.decision, q});
   auto statuses = t.create_writer<wire::AgentStatus>({topics.status, q});
   auto telemetry = t.create_writer<wire::ArenaTelemetry>({topics.telemetry, q});
   auto poses = t.create_writer<wire::Poses>({topics.poses, q});
-  const auto deadline = std::chrono::steady_clock::now() + 30s;
+  const auto deadline = std::chrono::steady_clock::now() + retreat::testing::hang_ceiling;
+  // Both sides must have matched before the first sample: a volatile reader that matches the
+  // writer late never gets the earlier samples, though the writer sees them acknowledged (a
+  // wall-clock pause here failed under load). The writer's matches, then the reader's file.
   while (frames.matched_count() == 0 || decisions.matched_count() == 0 ||
          statuses.matched_count() == 0 || telemetry.matched_count() == 0 ||
-         poses.matched_count() == 0) {
+         poses.matched_count() == 0 || (!ready.empty() && !std::filesystem::exists(ready))) {
     if (std::chrono::steady_clock::now() > deadline) {
-      std::fprintf(stderr, "writer: no reader matched within 30 s\n");
+      std::fprintf(stderr, "writer: the reader did not match within the ceiling\n");
       return 1;
     }
     std::this_thread::sleep_for(10ms);
   }
-  // Fast DDS may report a match before the remote side has matched us: give discovery a moment
-  // to settle on both sides before the first sample (samples to a not-yet-matched volatile
-  // reader are not delivered).
-  std::this_thread::sleep_for(500ms);
   for (int i = 0; i < count; ++i) {
     if (frames.write(testing::frame_sample(5, i)) != transport::WriteResult::ok ||
         decisions.write(testing::decision_sample(5, i)) != transport::WriteResult::ok ||
@@ -78,7 +80,8 @@ int run_writer(transport::Transport& t, const Topics& topics, int count) {
   return acked ? 0 : 1;
 }
 
-int run_reader(transport::Transport& t, const Topics& topics, int count) {
+/// @p ready: created once every reader is matched, for the writer (empty: none).
+int run_reader(transport::Transport& t, const Topics& topics, int count, const std::string& ready) {
   const auto q = transport::QosIntent::control();
   auto frames = t.create_reader<wire::ProximityFrame>({topics.frame, q});
   auto decisions = t.create_reader<wire::Decision>({topics.decision, q});
@@ -91,7 +94,14 @@ int run_reader(transport::Transport& t, const Topics& topics, int count) {
   std::vector<wire::ArenaTelemetry> a;
   std::vector<wire::Poses> p;
   const auto n = static_cast<std::size_t>(count);
-  const auto deadline = std::chrono::steady_clock::now() + 60s;
+  const auto deadline = std::chrono::steady_clock::now() + retreat::testing::hang_ceiling;
+  while (!ready.empty() && (frames.matched_count() == 0 || decisions.matched_count() == 0 ||
+                            statuses.matched_count() == 0 || telemetry.matched_count() == 0 ||
+                            poses.matched_count() == 0)) {
+    if (std::chrono::steady_clock::now() > deadline) break;
+    std::this_thread::sleep_for(10ms);
+  }
+  if (!ready.empty()) std::ofstream(ready) << "matched\n";
   while ((f.size() < n || d.size() < n || s.size() < n || a.size() < n || p.size() < n) &&
          std::chrono::steady_clock::now() < deadline) {
     t.wait(50ms);
@@ -123,6 +133,8 @@ int main(int argc, char** argv) {
   app.add_option("--domain", domain, "DDS domain id")->required();
   app.add_option("--prefix", prefix, "topic prefix");
   app.add_option("--count", count, "samples per kind")->check(CLI::PositiveNumber);
+  std::string ready;
+  app.add_option("--ready", ready, "a file the reader creates once matched and the writer waits for");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -136,7 +148,7 @@ int main(int argc, char** argv) {
     const Topics topics{wire::proximity_topic(prefix, 5), wire::decision_topic(prefix, 5),
                         wire::agent_status_topic(prefix), wire::arena_telemetry_topic(prefix),
                         wire::poses_topic(prefix)};
-    return role == "writer" ? run_writer(*t, topics, count) : run_reader(*t, topics, count);
+    return role == "writer" ? run_writer(*t, topics, count, ready) : run_reader(*t, topics, count, ready);
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "retreat_wire_probe: %s\n", e.what());
     return 2;

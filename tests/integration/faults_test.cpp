@@ -261,7 +261,7 @@ void expect_every_tick_once(const std::string& out, std::int64_t ticks) {
 TEST_P(LauncherResumesLockstep, AnArenaKilledMidRunAndTheRunHasTheUninterruptedTrajectory) {
   const std::string vendor = GetParam().name;
   if (!built(vendor)) GTEST_SKIP() << vendor << " is not built";
-  const auto dir = fresh_dir("faults-launcher-resumes-lockstep-" + vendor);
+  const auto dir = fresh_dir("faults-launcher-resumes-lockstep-" + vendor + (GetParam().plans ? "-plans" : ""));
   // 400 simulated seconds (13,334 ticks); the first retreats come after L = 90 s (~tick 3,000).
   // Killed once some are journalled, about 10,000 ticks remain: more than an agent's keep-all
   // decision writer could hold for the dead arena (Fast DDS 4,096 samples) before its lease
