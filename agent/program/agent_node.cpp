@@ -126,7 +126,7 @@ void AgentNode::handle(const wire::ProximityFrame& frame) {
     // A lockstep re-send: the arena has not seen our answer (it may have been written before the
     // arena's reader matched our writer). Answer again with the recorded answer; the
     // algorithm does not see the frame twice (it was counted as a duplicate).
-    (plans_ ? *plans_ : decisions_).write(*last_decision_);
+    answer_writer().write(*last_decision_);
     return;
   }
   if (result.verdict != FrameVerdict::accepted) return;
@@ -135,7 +135,7 @@ void AgentNode::handle(const wire::ProximityFrame& frame) {
   // Every accepted frame is answered: with this tick's decision, or with a plan (lockstep waits).
   last_decision_ = answer(frame, result);
   last_answered_tick_ = frame.tick;
-  if ((plans_ ? *plans_ : decisions_).write(*last_decision_) == transport::WriteResult::ok) {
+  if (answer_writer().write(*last_decision_) == transport::WriteResult::ok) {
     ++counters_.decisions_sent;
   } else {
     ++counters_.write_failures;
@@ -170,7 +170,7 @@ void AgentNode::after_frame(const wire::ProximityFrame& frame, const FrameResult
   departed_ = departed_ || phase_end;
 }
 
-wire::Decision AgentNode::answer(const wire::ProximityFrame& frame, const FrameResult& result) const {
+wire::Decision AgentNode::answer(const wire::ProximityFrame& frame, const FrameResult& result) {
   if (!plans_ || result.retreat_now) return {robot_id_, frame.tick, frame.time, result.retreating};
   // A plan needs the arena's frames on our frame clock, bit for bit; a frame off it (a scenario
   // that differs from the arena's) gets a plan that covers nothing but its own tick.

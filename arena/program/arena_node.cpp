@@ -25,7 +25,7 @@ struct ArenaNode::Robot {
   robot::Endpoints endpoints;  ///< the same endpoints a real robot's link uses
   /// With run.plans: the agent's plan reader, and its last plan (the ticks it covers while the
   /// robot's input stays unchanged: no sensed onset, and the phase of the frame it answered).
-  std::optional<transport::Reader<wire::Decision>> plans;
+  std::optional<transport::Reader<wire::Decision>> plans = std::nullopt;
   std::int64_t plan_through = -1;  ///< the last tick the plan covers (-1: none)
   bool plan_retreat = false;       ///< the decision at plan_through
   wire::Phase plan_phase = wire::Phase::waiting;
@@ -206,7 +206,7 @@ void ArenaNode::publish_tick() {
       if (f.tick <= r.plan_through && r.sensed_onsets == 0 && r.phase == r.plan_phase) {
         // Covered: the agent decided this tick already, in the plan it answered with.
         ++counters_.planned;
-        if (r.expecting) act_on_answer(r, f.tick == r.plan_through && r.plan_retreat);
+        if (r.expecting) act_on_answer(r, plan_decision(r, f.tick));
         r.answered = true;
         continue;
       }
@@ -252,6 +252,12 @@ void ArenaNode::act_on_answer(Robot& r, bool retreat) {
   r.retreat = r.retreat || retreat;
 }
 
+bool ArenaNode::plan_decision(const Robot& r, std::int64_t tick) {
+  // The plan's own decision if it ends at this tick; before its end, no retreat (an agent that
+  // had decided is commanded already, and its retreat stays).
+  return tick == r.plan_through && r.plan_retreat;
+}
+
 void ArenaNode::take_plans(Robot& r, std::int64_t current) {
   r.plans->take(taken_);
   for (const auto& p : taken_) {
@@ -269,9 +275,7 @@ void ArenaNode::take_plans(Robot& r, std::int64_t current) {
       r.plan_through = p.tick;
       r.plan_retreat = p.retreat;
       r.plan_phase = r.phase;
-      // The decision at this tick: the plan's own if it ends here; before its end, no retreat
-      // (an agent that had decided is commanded already, and its retreat stays).
-      act_on_answer(r, p.tick == current && p.retreat);
+      act_on_answer(r, plan_decision(r, current));
     }
   }
 }

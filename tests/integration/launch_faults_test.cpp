@@ -6,8 +6,10 @@
 
 #include <gtest/gtest.h>
 
+#include <initializer_list>
 #include <set>
 #include <thread>
+#include <vector>
 
 #include "retreat/testing/domains.hpp"
 #include "launch_support.hpp"
@@ -51,17 +53,21 @@ pid_t pid_of_agent(const json& processes, int robot) {
   return -1;
 }
 
-TEST(LaunchFaults, TwoAgentsKilledMidRunAreCountedLostAndTheRunCompletes) {
-  const std::string vendor = built("fastdds") ? "fastdds" : "cyclonedds";
-  const auto dir = fresh_dir("kill-agents");
-  // 200 simulated seconds (6,667 ticks); an agent silent for 1 wall second is lost.
-  auto l = start_launch(dir, {robotarium, "--dds", vendor, "--domain", std::to_string(domain_kill_agents),
-                              "--set", "run.duration=200", "--set", "run.agent_timeout=1"});
+/// Launches robotarium with @p args on @p vendor and @p domain, kills the agents of @p robots
+/// (SIGKILL) once the arena's telemetry reaches simulated time @p kill_after, waits for the
+/// launcher, which must exit 0 with 12 agents started and no child left, and reads summary.json
+/// into @p summary. Fatal failures end it (the caller checks HasFatalFailure()).
+void kill_agents_and_finish(const std::string& name, const std::string& vendor, int domain,
+                            const std::vector<std::string>& args, double kill_after,
+                            std::initializer_list<int> robots, json& summary) {
+  const auto dir = fresh_dir(name);
+  std::vector<std::string> argv = {robotarium, "--dds", vendor, "--domain", std::to_string(domain)};
+  argv.insert(argv.end(), args.begin(), args.end());
+  auto l = start_launch(dir, argv);
   const auto processes = wait_for_processes(l.out);
   ASSERT_EQ(processes["agents"].size(), 12u) << log_of(dir);
-  ASSERT_TRUE(wait_for_simulated_time(vendor, domain_kill_agents, 10.0)) << log_of(dir);
-  // Robots 10 and 11 wait in the queue until t = 50 s and 66 s: still there, still answering.
-  for (int robot : {10, 11}) {
+  ASSERT_TRUE(wait_for_simulated_time(vendor, domain, kill_after)) << log_of(dir);
+  for (int robot : robots) {
     const pid_t pid = pid_of_agent(processes, robot);
     ASSERT_GT(pid, 0);
     ASSERT_EQ(::kill(pid, SIGKILL), 0);
@@ -69,12 +75,22 @@ TEST(LaunchFaults, TwoAgentsKilledMidRunAreCountedLostAndTheRunCompletes) {
   const auto code = l.process.wait_for(retreat::testing::hang_ceiling);
   ASSERT_TRUE(code.has_value()) << "the launcher did not finish; " << log_of(dir);
   EXPECT_EQ(*code, 0) << log_of(dir);
-  const auto j = read_json(l.out + "/summary.json");
-  ASSERT_FALSE(j.empty()) << log_of(dir);
-  EXPECT_EQ(j["agents"]["started"], 12);
+  summary = read_json(l.out + "/summary.json");
+  ASSERT_FALSE(summary.empty()) << log_of(dir);
+  EXPECT_EQ(summary["agents"]["started"], 12);
+  EXPECT_TRUE(alive(child_pids(processes)).empty());
+}
+
+TEST(LaunchFaults, TwoAgentsKilledMidRunAreCountedLostAndTheRunCompletes) {
+  const std::string vendor = built("fastdds") ? "fastdds" : "cyclonedds";
+  // 200 simulated seconds (6,667 ticks); an agent silent for 1 wall second is lost. Robots 10 and
+  // 11 wait in the queue until t = 50 s and 66 s: killed at t >= 10 s, still there, still answering.
+  json j;
+  kill_agents_and_finish("kill-agents", vendor, domain_kill_agents,
+                         {"--set", "run.duration=200", "--set", "run.agent_timeout=1"}, 10.0, {10, 11}, j);
+  if (HasFatalFailure()) return;
   EXPECT_EQ(j["agents"]["lost"], 2);
   EXPECT_EQ(j["ticks"], 6667);
-  EXPECT_TRUE(alive(child_pids(processes)).empty());
 }
 
 TEST(LaunchFaults, WithPlansTwoAgentsKilledWhileTheirPlansAreInForceAreCountedLostAndTheRunCompletes) {
@@ -83,29 +99,16 @@ TEST(LaunchFaults, WithPlansTwoAgentsKilledWhileTheirPlansAreInForceAreCountedLo
   // the whole 1,200 s, and their agents' deaths are found out at the next frame their plans leave
   // to the arena (no answer within run.agent_timeout: lost), whenever they die after t = 1 s.
   const std::string vendor = built("fastdds") ? "fastdds" : "cyclonedds";
-  const int domain = testing::domains::launch_plans.at(3);
-  const auto dir = fresh_dir("kill-agents-plans");
-  auto l = start_launch(dir, {robotarium, "--dds", vendor, "--domain", std::to_string(domain), "--set",
-                              "run.agent_timeout=1", "--set", "run.plans=true", "--set", "run.plan_horizon=2",
-                              "--set", "agent.K_p=0", "--set", "agent.lambda_in=0"});
-  const auto processes = wait_for_processes(l.out);
-  ASSERT_EQ(processes["agents"].size(), 12u) << log_of(dir);
-  ASSERT_TRUE(wait_for_simulated_time(vendor, domain, 1.0)) << log_of(dir);
-  for (int robot : {0, 1}) {
-    const pid_t pid = pid_of_agent(processes, robot);
-    ASSERT_GT(pid, 0);
-    ASSERT_EQ(::kill(pid, SIGKILL), 0);
-  }
-  const auto code = l.process.wait_for(retreat::testing::hang_ceiling);
-  ASSERT_TRUE(code.has_value()) << "the launcher did not finish; " << log_of(dir);
-  EXPECT_EQ(*code, 0) << log_of(dir);
-  const auto j = read_json(l.out + "/summary.json");
-  ASSERT_FALSE(j.empty()) << log_of(dir);
+  json j;
+  kill_agents_and_finish("kill-agents-plans", vendor, testing::domains::launch_plans.at(3),
+                         {"--set", "run.agent_timeout=1", "--set", "run.plans=true", "--set", "run.plan_horizon=2",
+                          "--set", "agent.K_p=0", "--set", "agent.lambda_in=0"},
+                         1.0, {0, 1}, j);
+  if (HasFatalFailure()) return;
   EXPECT_EQ(j["agents"]["lost"], 2);
   EXPECT_EQ(j["agents"]["retreated"], 0);
   EXPECT_EQ(j["ticks"], 40000);
   EXPECT_GT(j["decisions_planned"].get<std::uint64_t>(), 0u);
-  EXPECT_TRUE(alive(child_pids(processes)).empty());
 }
 
 TEST(LaunchFaults, AnArenaKilledMoreOftenThanItIsResumedStopsEveryChildAndTheLauncherFails) {

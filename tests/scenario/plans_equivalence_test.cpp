@@ -75,9 +75,9 @@ TEST_P(PlansEquivalence, PlansGiveThePerTickTrajectory) {
 }
 
 INSTANTIATE_TEST_SUITE_P(ShippedScenarios, PlansEquivalence, ::testing::ValuesIn(cases()),
-                         [](const ::testing::TestParamInfo<Case>& info) {
-                           std::string name = info.param.scenario.substr(0, info.param.scenario.size() - 5) + "_" +
-                                              info.param.controller;
+                         [](const ::testing::TestParamInfo<Case>& test) {
+                           std::string name = test.param.scenario.substr(0, test.param.scenario.size() - 5) + "_" +
+                                              test.param.controller;
                            for (char& ch : name) ch = std::isalnum(static_cast<unsigned char>(ch)) ? ch : '_';
                            return name;
                          });

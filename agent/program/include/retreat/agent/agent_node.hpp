@@ -71,7 +71,9 @@ class AgentNode {
   /// Acts on one accepted frame's aftermath: journal, status (shared by sent and covered frames).
   void after_frame(const wire::ProximityFrame& frame, const FrameResult& result);
   /// This frame's answer: the decision, or with run.plans the plan.
-  wire::Decision answer(const wire::ProximityFrame& frame, const FrameResult& result) const;
+  wire::Decision answer(const wire::ProximityFrame& frame, const FrameResult& result);
+  /// Where answers go: the plan topic with run.plans, else the decision topic.
+  transport::Writer<wire::Decision>& answer_writer() { return plans_ ? *plans_ : decisions_; }
   /// Acts on a journalled frame again, publishing nothing.
   void recover(const wire::ProximityFrame& frame);
   void publish_status(std::int64_t tick, double time);
@@ -92,7 +94,7 @@ class AgentNode {
   std::optional<wire::Decision> last_decision_;  ///< the last answer written (a plan with run.plans)
   std::int64_t last_answered_tick_ = -1;          ///< the frame tick it answers
   std::optional<wire::ProximityFrame> last_frame_;  ///< the last accepted frame (sent or covered)
-  mutable bool clock_warned_ = false;
+  bool clock_warned_ = false;  ///< the frame-clock warning was printed (once per process)
   std::int64_t last_status_slot_ = -1;
   bool last_retreating_ = false;
   bool departed_ = false;

@@ -96,6 +96,8 @@ class ArenaNode {
   void take_plans(Robot& r, std::int64_t current);
   /// Acts on robot @p r's decision for the current tick (from the wire or from its plan).
   void act_on_answer(Robot& r, bool retreat);
+  /// run.plans: robot @p r's decision at @p tick, a tick its plan covers.
+  static bool plan_decision(const Robot& r, std::int64_t tick);
   /// Real robots: applies every valid tracked pose that arrived (dropping and counting those
   /// going back in time or jumping), then freezes or loses those whose pose is too old.
   void take_external_poses();
