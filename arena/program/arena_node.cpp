@@ -189,6 +189,7 @@ ExternalCounters ArenaNode::external_counters() const {
 }
 
 void ArenaNode::publish_tick() {
+  sent_.clear();
   for (const auto& f : world_->frames()) {
     auto& r = robot(f.id);
     r.phase = to_wire(f.phase);
@@ -213,12 +214,16 @@ void ArenaNode::publish_tick() {
       r.plan_through = -1;  // the input changed, or the plan ended: the agent answers this frame
       r.frame_time = f.time;
     }
-    if (r.endpoints.frames.write(frame) != transport::WriteResult::ok && r.expecting) {
-      // The agent's reader has stopped acknowledging: treat it like a silent agent.
-      r.expecting = false;
-      r.record.lost = true;
-      r.record.lost_at = f.time;
+    if (r.endpoints.frames.write(frame) != transport::WriteResult::ok) {
+      if (r.expecting) {
+        // The agent's reader has stopped acknowledging: treat it like a silent agent.
+        r.expecting = false;
+        r.record.lost = true;
+        r.record.lost_at = f.time;
+      }
+      continue;
     }
+    sent_.push_back(f.id);
   }
   publish_observations();
 }
@@ -314,6 +319,17 @@ bool ArenaNode::collect_available() {
   // Once per call, not per robot.
   const auto current = tick();
   bool all = true;
+  if (scenario_.run.plans) {
+    // Only a robot sent a frame this tick owes an answer: the others' plans cover the tick, and
+    // whatever else their readers hold answers a settled frame (it is judged when the robot is
+    // next sent a frame, or by finish()). A tick then costs the robots whose input changed.
+    for (const auto id : sent_) {
+      auto& r = *robots_[id];
+      take_plans(r, current);
+      all = all && !(r.expecting && !r.answered && !r.record.lost);
+    }
+    return all;
+  }
   for (auto& r : robots_) {
     take_decisions(*r, current);
     all = all && !(r->expecting && !r->answered && !r->record.lost);
@@ -428,7 +444,25 @@ std::uint32_t ArenaNode::agents_lost() const {
   return n;
 }
 
+void ArenaNode::count_leftover_plans() {
+  const auto current = tick();
+  for (auto& r : robots_) {
+    if (!r->plans) continue;
+    r->plans->take(taken_);
+    for (const auto& p : taken_) {
+      if (p.robot_id >= world_->robot_count()) {
+        ++counters_.unknown_robot;
+      } else if (robot::judge_plan(p, current, r->frame_time) == robot::DecisionVerdict::future) {
+        ++counters_.future;
+      } else {
+        ++counters_.stale;  // a repeated answer, or one from a lost agent: its frame is settled
+      }
+    }
+  }
+}
+
 RunSummary ArenaNode::finish(double wall_seconds) {
+  if (scenario_.run.plans) count_leftover_plans();
   publish_observations();
   RunSummary s;
   s.ticks = tick();

@@ -9,12 +9,16 @@
 #   * in-process: robot-ticks per second of the whole run's loop (frames out, every agent's
 #     step, decisions back, the world's step), and that as a multiple of real time;
 #   * overhead: bare rate / in-process rate (1 = the agents and the messages cost nothing);
-#   * set-up: seconds to build the swarm (N agents and their endpoints) before the first tick.
+#   * set-up: seconds to build the swarm (N agents and their endpoints) before the first tick;
+#   * each in-process run twice: per-tick lockstep, and event-driven lockstep (run.plans, where
+#     an agent is sent a frame only when its robot's input changes or its plan ends; "planned"
+#     is the share of robot-ticks its plan decided).
 #
 # Usage:
 #   deploy/bench/inprocess_scale.sh [--filter REGEX] [--out DIR]
-#   --filter REGEX   Google Benchmark filter over bare_world/N/P and in_process/N/P (P: 0
-#                    kinetic, 1 physical), e.g. '/(1000|10000)/' (default: everything)
+#   --filter REGEX   Google Benchmark filter over bare_world/N/P and in_process/N/P/E (P: 0
+#                    kinetic, 1 physical; E: 0 per tick, 1 plans), e.g. '/(1000|10000)/'
+#                    (default: everything)
 #   --out DIR        where the JSON and results.txt go (default: a new directory under /tmp)
 #
 # Needs a build with -DRETREAT_BUILD_BENCHMARKS=ON (deploy/bench.sh makes one); the build
@@ -44,18 +48,20 @@ mkdir -p "$out"
 python3 - "$out/in_process_bench.json" <<'PY' | tee "$out/results.txt"
 import json, sys
 runs = json.load(open(sys.argv[1]))["benchmarks"]
-by = {}
+bare, inp = {}, {}
 for b in runs:
-    kind, n, physical = b["name"].split("/")[:3]
-    by.setdefault((int(physical), int(n)), {})[kind] = b
-print(f"{'world':<9} {'N':>7} {'bare robot-ticks/s':>19} {'in-process robot-ticks/s':>25} {'overhead':>9} {'x real time':>12} {'set-up s':>9}")
-for (physical, n), kinds in sorted(by.items()):
-    bare = kinds.get("bare_world", {}).get("items_per_second")
-    inp = kinds.get("in_process", {})
-    rate = inp.get("items_per_second")
-    fmt = lambda v, f: (f.format(v) if v is not None else "-")
-    print(f"{'physical' if physical else 'kinetic':<9} {n:>7} {fmt(bare, '{:,.0f}'):>19} {fmt(rate, '{:,.0f}'):>25} "
-          f"{fmt(bare / rate if bare and rate else None, '{:.1f}x'):>9} {fmt(inp.get('real_time_x'), '{:.2f}'):>12} "
-          f"{fmt(inp.get('setup_s'), '{:.1f}'):>9}")
+    parts = b["name"].split("/")
+    if parts[0] == "bare_world":
+        bare[(int(parts[2]), int(parts[1]))] = b
+    elif parts[0] == "in_process":
+        inp[(int(parts[2]), int(parts[1]), int(parts[3]))] = b
+print(f"{'world':<9} {'N':>7} {'lockstep':<11} {'bare robot-ticks/s':>19} {'in-process robot-ticks/s':>25} {'overhead':>9} {'x real time':>12} {'planned':>8} {'set-up s':>9}")
+fmt = lambda v, f: (f.format(v) if v is not None else "-")
+for (physical, n, plans), run in sorted(inp.items()):
+    b = bare.get((physical, n), {}).get("items_per_second")
+    rate = run.get("items_per_second")
+    print(f"{'physical' if physical else 'kinetic':<9} {n:>7} {'plans' if plans else 'per tick':<11} {fmt(b, '{:,.0f}'):>19} "
+          f"{fmt(rate, '{:,.0f}'):>25} {fmt(b / rate if b and rate else None, '{:.1f}x'):>9} "
+          f"{fmt(run.get('real_time_x'), '{:.2f}'):>12} {fmt(run.get('planned'), '{:.1%}'):>8} {fmt(run.get('setup_s'), '{:.1f}'):>9}")
 PY
 echo "inprocess_scale.sh: $out/results.txt" >&2

@@ -57,8 +57,10 @@ InMemoryRun run_in_memory(const scenario::Scenario& s, arena::RunRecorder* recor
   const auto start = Clock::now();
   while (keep_going()) {
     arena.publish_tick();
-    for (auto& a : agents) {
-      if (a.node) a.node->spin_once(std::chrono::nanoseconds(0));
+    // Only the agents sent a frame have anything to do (with run.plans, the robots whose input
+    // changed; otherwise every live one).
+    for (const auto id : arena.frames_sent()) {
+      if (id < agents.size() && agents[id].node) agents[id].node->spin_once(std::chrono::nanoseconds(0));
     }
     if (!arena.collect_available()) {
       // The in-memory transport delivers synchronously: every live agent has answered.
@@ -66,13 +68,15 @@ InMemoryRun run_in_memory(const scenario::Scenario& s, arena::RunRecorder* recor
     }
     if (arena.finished()) break;
     arena.step();
-    start_agents();  // endless queue: robots appear
-    for (auto& a : agents) {
-      if (a.node && a.node->departed()) {
+    // An agent departs on its robot's departed frame, so only those sent a frame can have.
+    for (const auto id : arena.frames_sent()) {
+      if (id >= agents.size()) continue;
+      if (auto& a = agents[id]; a.node && a.node->departed()) {
         a.node.reset();  // first: a node must not outlive its transport
         a.transport.reset();
       }
     }
+    start_agents();  // endless queue: robots appear
     if (on_tick) on_tick(arena, std::chrono::duration<double>(Clock::now() - start).count());
   }
   InMemoryRun out;

@@ -13,10 +13,14 @@
 #include <string>
 #include <vector>
 
+#include "retreat/agent/agent_node.hpp"
 #include "retreat/agent/controller_registry.hpp"
+#include "retreat/arena/arena_node.hpp"
 #include "retreat/launch/in_memory_run.hpp"
 #include "retreat/physics/world.hpp"
 #include "retreat/scenario/scenario.hpp"
+#include "retreat/transport/inmemory.hpp"
+#include "retreat/wire/topics.hpp"
 
 namespace retreat {
 namespace {
@@ -71,6 +75,8 @@ TEST_P(PlansEquivalence, PlansGiveThePerTickTrajectory) {
     // The plans did the work: most robot-ticks were decided without a frame.
     EXPECT_GT(planned.summary.decisions_planned, planned.summary.decisions_received) << horizon;
     EXPECT_LT(planned.summary.decisions_received, per_tick.summary.decisions_received) << horizon;
+    // Every plan answered a frame the arena was waiting for: none is left over or dropped.
+    EXPECT_EQ(planned.summary.decisions_dropped, 0u) << horizon;
   }
 }
 
@@ -103,6 +109,53 @@ TEST(PlansEquivalence, ANoisySensorsMissedAndFalseOnsetsVoidPlansAsRealOnesDo) {
     EXPECT_EQ(planned.summary.trajectory_sha256, per_tick.summary.trajectory_sha256) << c;
     EXPECT_GT(planned.summary.decisions_planned, 0u) << c;
   }
+}
+
+/// One robot alone (no encounter, so its one plan covers the whole run) in event-driven lockstep,
+/// stepped like run_in_memory; with `extra`, a repeated answer to its first frame is written on
+/// its plan topic after tick 3, when the arena reads no plan of this robot any more.
+arena::RunSummary lone_robot_run(bool extra) {
+  const auto s = scenario::load(std::string(RETREAT_SCENARIOS) + "/kinetic-1000.yaml",
+                                {"arena.robots_inside=1", "run.duration=1.5", "run.plans=true"});
+  auto bus = transport::make_inmemory_bus(transport::Threading::confined);
+  auto participant = [&](const std::string& name) {
+    transport::ParticipantOptions o;
+    o.domain_id = s.dds.domain;
+    o.name = name;
+    return transport::make_inmemory_transport(bus, o);
+  };
+  auto arena_transport = participant("arena");
+  arena::ArenaNode arena(s, *arena_transport, nullptr);
+  auto agent_transport = participant("agent");
+  agent::AgentNode agent(s, 0, *agent_transport);
+  auto stray_transport = participant("stray");
+  auto stray = stray_transport->create_writer<wire::Decision>(
+      {wire::plan_topic(s.dds.prefix, 0), transport::QosIntent::answers()});
+  EXPECT_EQ(arena.wait_for_agents(std::chrono::seconds(1), [] { return true; }), 1u);
+  std::size_t frames = 0;
+  for (;;) {
+    arena.publish_tick();
+    frames += arena.frames_sent().size();
+    if (!arena.frames_sent().empty()) agent.spin_once(std::chrono::nanoseconds(0));
+    EXPECT_TRUE(arena.collect_available()) << "tick " << arena.tick();
+    if (extra && arena.tick() == 3) stray.write({0, 500, 0.0, false});  // tick 0's frame, again
+    if (arena.finished()) break;
+    arena.step();
+  }
+  EXPECT_EQ(frames, 1u) << "the robot's first plan should cover the whole run";
+  return arena.finish(1.0);
+}
+
+TEST(PlansEquivalence, APlanLeftUnreadAnswersASettledFrameAndIsCountedDroppedAtTheEnd) {
+  // The arena reads only the plan readers of robots it sent a frame: what else arrives is
+  // counted when the run ends, not lost from the summary.
+  const auto clean = lone_robot_run(false);
+  EXPECT_EQ(clean.decisions_dropped, 0u);
+  EXPECT_EQ(clean.decisions_received, 1u);
+  const auto repeated = lone_robot_run(true);
+  EXPECT_EQ(repeated.decisions_dropped, 1u);
+  EXPECT_EQ(repeated.decisions_received, 1u);
+  EXPECT_EQ(repeated.trajectory_sha256, clean.trajectory_sha256);
 }
 
 TEST(FrameClock, EveryWorldsFramesAreOnTheScenariosFrameClockBitForBit) {

@@ -28,13 +28,14 @@ constexpr double density = 1.6;  // robots/m², kinetic-1000.yaml's
 /// Ticks per in-process run: 1,000 (30 simulated seconds) kinetic, 300 (9 s) physical.
 std::int64_t ticks_of(bool physical) { return physical ? 300 : 1000; }
 
-retreat::scenario::Scenario scenario_of(std::int64_t robots, bool physical) {
+retreat::scenario::Scenario scenario_of(std::int64_t robots, bool physical, bool plans = false) {
   const double side = std::sqrt(static_cast<double>(robots) / density);
   std::vector<std::string> overrides = {
       "arena.robots_inside=" + std::to_string(robots), "arena.width=" + std::to_string(side),
       "arena.height=" + std::to_string(side),
       "run.duration=" + std::to_string(static_cast<double>(ticks_of(physical)) * 0.03)};
   if (physical) overrides.emplace_back("arena.encounter_model=physical");
+  if (plans) overrides.emplace_back("run.plans=true");
   return retreat::scenario::load(RETREAT_SCENARIOS "/kinetic-1000.yaml", overrides);
 }
 
@@ -46,8 +47,9 @@ void bare_world(benchmark::State& state) {
 }
 
 void in_process(benchmark::State& state) {
-  const auto s = scenario_of(state.range(0), state.range(1) != 0);
+  const auto s = scenario_of(state.range(0), state.range(1) != 0, state.range(2) != 0);
   std::int64_t ticks = 0;
+  std::uint64_t planned = 0;
   double loop = 0.0, total = 0.0;
   for (auto _ : state) {
     const auto start = std::chrono::steady_clock::now();
@@ -55,20 +57,23 @@ void in_process(benchmark::State& state) {
     total += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     loop += run.summary.wall_seconds;
     ticks += run.summary.ticks;
+    planned += run.summary.decisions_planned;
     state.SetIterationTime(run.summary.wall_seconds);
   }
   state.SetItemsProcessed(ticks * state.range(0));
   const auto runs = static_cast<double>(state.iterations());
   state.counters["setup_s"] = (total - loop) / runs;
   state.counters["real_time_x"] = static_cast<double>(ticks) * s.arena.tick_dt / loop;
+  state.counters["planned"] = static_cast<double>(planned) / (static_cast<double>(ticks) * static_cast<double>(state.range(0)));
 }
 
 // Args: {robots, physical}.
 BENCHMARK(bare_world)
     ->ArgsProduct({{1000, 10000, 100000}, {0, 1}})
     ->Unit(benchmark::kMillisecond);
+// Args: {robots, physical, plans}: plans = 1 is event-driven lockstep (run.plans).
 BENCHMARK(in_process)
-    ->ArgsProduct({{1000, 10000, 100000}, {0, 1}})
+    ->ArgsProduct({{1000, 10000, 100000}, {0, 1}, {0, 1}})
     ->UseManualTime()
     ->Iterations(1)
     ->Unit(benchmark::kSecond);

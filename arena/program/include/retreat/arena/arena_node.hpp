@@ -62,6 +62,10 @@ class ArenaNode {
   /// all_answered() (found in the same pass over the robots).
   bool collect_available();
 
+  /// The robots sent a frame by the last publish_tick(), in id order: with run.plans, those
+  /// whose input changed or whose plan ended (and only their agents have anything to do).
+  const std::vector<std::uint32_t>& frames_sent() const { return sent_; }
+
   /// True when every live agent has answered the current tick.
   bool all_answered() const;
 
@@ -94,6 +98,9 @@ class ArenaNode {
   void take_decisions(Robot& r, std::int64_t current);
   /// run.plans: takes robot @p r's plans; one that answers the frame awaiting an answer is kept.
   void take_plans(Robot& r, std::int64_t current);
+  /// run.plans, at the end: counts the plans still unread (collect_available() reads only the
+  /// robots sent a frame) as dropped, judged like the others but acting on none.
+  void count_leftover_plans();
   /// Acts on robot @p r's decision for the current tick (from the wire or from its plan).
   void act_on_answer(Robot& r, bool retreat);
   /// run.plans: robot @p r's decision at @p tick, a tick its plan covers.
@@ -112,6 +119,7 @@ class ArenaNode {
   std::unique_ptr<physics::World> world_;
   physics::SensorNoise sensor_;  ///< each robot's sensor (arena.missed_onsets, arena.false_onsets)
   std::vector<std::unique_ptr<Robot>> robots_;  ///< by robot id (ids are 0 .. robot_count()−1)
+  std::vector<std::uint32_t> sent_;             ///< frames_sent()
   std::vector<wire::Decision> taken_;           ///< take_decisions' buffer, kept between calls
   std::vector<wire::Poses> taken_poses_;        ///< take_external_poses' buffer
   ExternalCounters external_;
