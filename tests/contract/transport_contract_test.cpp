@@ -244,6 +244,23 @@ TEST(TransportContract, DiscoveryShowsEachParticipantsUserData) {
   }, retreat::testing::hang_ceiling)) << "the arena never saw the agent's user data";
 }
 
+TEST(TransportContract, DiscoveryListsEveryParticipantOfALargeSwarm) {
+  // More participants than one read of the built-in topic used to hold (Cyclone DDS: 256).
+  if (vendor == "fastdds") {
+    GTEST_SKIP() << "Fast DDS lists what its participant listener saw (no batch); 300 participants of one "
+                    "process exceed one domain's port block with the built-in settings";
+  }
+  constexpr std::size_t crowd = 300;
+  std::vector<std::unique_ptr<Transport>> agents;
+  for (std::size_t i = 0; i < crowd; ++i) agents.push_back(participant("crowd-" + std::to_string(i)));
+  std::size_t seen = 0;
+  EXPECT_TRUE(eventually([&] {
+    seen = 0;
+    for (const auto& p : agents.front()->participants()) seen += p.user_data.rfind("retreat:test:crowd-", 0) == 0;
+    return seen == crowd;
+  }, retreat::testing::hang_ceiling)) << "saw " << seen << " of " << crowd;
+}
+
 TEST(TransportContract, ShutdownLeavesNoThreadBehind) {
   const auto prefix = test_prefix();
   const auto before = thread_count();

@@ -304,10 +304,18 @@ class CycloneTransport final : public Transport {
 
   std::vector<ParticipantInfo> participants() const override {
     std::vector<ParticipantInfo> out;
-    constexpr std::size_t batch = 256;
-    void* samples[batch] = {};
-    dds_sample_info_t infos[batch];
-    const dds_return_t n = dds_read(participants_reader_, samples, infos, batch, batch);
+    // dds_read returns at most as many samples as there is room for: grow until one read holds
+    // every participant (a swarm on one domain has hundreds or thousands).
+    std::vector<void*> samples;
+    std::vector<dds_sample_info_t> infos;
+    dds_return_t n = 0;
+    for (std::size_t room = 256;; room *= 2) {
+      samples.assign(room, nullptr);
+      infos.resize(room);
+      n = dds_read(participants_reader_, samples.data(), infos.data(), room, static_cast<uint32_t>(room));
+      if (n < static_cast<dds_return_t>(room)) break;
+      dds_return_loan(participants_reader_, samples.data(), n);
+    }
     for (dds_return_t i = 0; i < n; ++i) {
       if (!infos[i].valid_data || infos[i].instance_state != DDS_IST_ALIVE) continue;
       const auto* p = static_cast<const dds_builtintopic_participant_t*>(samples[i]);
@@ -325,7 +333,7 @@ class CycloneTransport final : public Transport {
       }
       out.push_back(std::move(info));
     }
-    if (n > 0) dds_return_loan(participants_reader_, samples, n);
+    if (n > 0) dds_return_loan(participants_reader_, samples.data(), n);
     return out;
   }
   std::string_view vendor() const override { return "cyclonedds"; }
