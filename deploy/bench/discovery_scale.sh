@@ -17,7 +17,7 @@
 # Usage:
 #   deploy/bench/discovery_scale.sh --vendor fastdds|cyclonedds --profile star|loopback|default
 #       [--agents N] [--domain ID] [--timeout S] [--idle S] [--out DIR] [--node PATH]
-#       [--hub-profile FILE --agent-profile FILE]
+#       [--hub-profile FILE --agent-profile FILE] [--shards K]
 #
 #   --profile star      Fast DDS: fastdds-discovery-server-hub.xml / -client.xml;
 #                       Cyclone: cyclonedds-star-hub.xml / cyclonedds-star-agent.xml
@@ -27,6 +27,13 @@
 #   --domain ID         DDS domain id (default 140)
 #   --timeout S         seconds to wait for discovery (default 240)
 #   --idle S            idle window for the CPU measurement (default 10)
+#   --shards K          Cyclone star only (default 1): K hubs, each for N/K of the robots, at
+#                       participant indices 0, 2, 4, ...; each agent's only peer is its own
+#                       hub's discovery port (the agent profile with that peer is written to
+#                       DIR). A hub announces all its endpoints to every agent it discovers,
+#                       whatever their topics: sharding divides that work by K (see
+#                       docs/benchmarks.md, "Discovery"). Times are those of the slowest hub,
+#                       memory is summed over the hubs.
 #   --node PATH         the retreat_dds_swarm_node program
 #                       (default: $RETREAT_BUILD_DIR/tests/integration/retreat_dds_swarm_node,
 #                       RETREAT_BUILD_DIR defaulting to ./build)
@@ -52,6 +59,7 @@ out=""
 node="${RETREAT_BUILD_DIR:-$root/build}/tests/integration/retreat_dds_swarm_node"
 hub_profile=""
 agent_profile=""
+shards=1
 
 usage() { sed -n '2,/^set -euo/p' "$0" | sed -e '/^set -euo/d' -e 's/^# \{0,1\}//'; }
 die() { echo "discovery_scale: $*" >&2; exit 2; }
@@ -68,6 +76,7 @@ while [ $# -gt 0 ]; do
     --node) node=${2:?}; shift 2 ;;
     --hub-profile) hub_profile=${2:?}; shift 2 ;;
     --agent-profile) agent_profile=${2:?}; shift 2 ;;
+    --shards) shards=${2:?}; shift 2 ;;
     -h|--help) usage; exit 0 ;;
     *) die "unknown argument '$1' (see --help)" ;;
   esac
@@ -83,6 +92,11 @@ int_in --agents "$agents" 1 1000
 int_in --domain "$domain" 0 232
 int_in --timeout "$timeout_s" 1 3600
 int_in --idle "$idle_s" 1 3600
+int_in --shards "$shards" 1 64
+if [ "$shards" -gt 1 ]; then
+  [ "$vendor/$profile" = cyclonedds/star ] || die "--shards $shards: only with --vendor cyclonedds --profile star"
+  [ $((agents % shards)) -eq 0 ] || die "--shards $shards: must divide --agents $agents"
+fi
 [ -x "$node" ] || die "--node '$node': not an executable (build the target retreat_dds_swarm_node)"
 
 if [ -z "$hub_profile$agent_profile" ]; then
@@ -104,7 +118,15 @@ fi
 
 [ -n "$out" ] || out=$(mktemp -d "/tmp/retreat-discovery-scale.XXXXXX")
 mkdir -p "$out"
-rm -f "$out"/hub.result "$out"/summary.txt
+rm -f "$out"/hub*.result "$out"/summary.txt
+if [ "$shards" -gt 1 ]; then
+  # The shipped agent profile with one peer: its hub's discovery port (Cyclone expands the
+  # variable; the port is 7410 + 250 * domain + 2 * participant index).
+  sed 's|<Peer address="127.0.0.1"/>|<Peer address="127.0.0.1:${RETREAT_HUB_PORT}"/>|' "$agent_profile" \
+    > "$out/agent-sharded.xml"
+  grep -q RETREAT_HUB_PORT "$out/agent-sharded.xml" || die "$agent_profile: no <Peer address=\"127.0.0.1\"/> to point at a shard"
+  agent_profile=$out/agent-sharded.xml
+fi
 
 # Every process exits by itself after this long, even if this script is killed with SIGKILL.
 life_s=$((timeout_s + idle_s + 180))
@@ -138,16 +160,20 @@ profile_args() { [ -n "$1" ] && printf -- '--profile\n%s\n' "$1"; return 0; }
 mapfile -t hub_args < <(profile_args "$hub_profile")
 mapfile -t agent_args < <(profile_args "$agent_profile")
 
-"$node" --role hub --dds "$vendor" "${hub_args[@]}" --domain "$domain" --agents "$agents" \
-  --match-timeout "$timeout_s" --answer-timeout 60 --result "$out/hub.result" --linger \
-  --max-seconds "$life_s" > "$out/hub.log" 2>&1 &
-hub_pid=$!
-pids+=("$hub_pid")
+per_shard=$((agents / shards))
+hub_pids=()
+for ((k = 0; k < shards; k++)); do
+  RETREAT_DDS_PARTICIPANT_INDEX=$((2 * k)) "$node" --role hub --dds "$vendor" "${hub_args[@]}" --domain "$domain" \
+    --agents "$per_shard" --first-robot $((k * per_shard)) --match-timeout "$timeout_s" --answer-timeout 60 \
+    --result "$out/hub$k.result" --linger --max-seconds "$life_s" > "$out/hub$k.log" 2>&1 &
+  hub_pids+=("$!")
+  pids+=("$!")
+done
 
 first_start=$(now)
 agent_pids=()
 for ((i = 0; i < agents; i++)); do
-  "$node" --role agent --dds "$vendor" "${agent_args[@]}" --domain "$domain" --robot "$i" \
+  RETREAT_HUB_PORT=$((7410 + 250 * domain + 4 * (i / per_shard))) "$node" --role agent --dds "$vendor" "${agent_args[@]}" --domain "$domain" --robot "$i" \
     --max-seconds "$life_s" > "$out/agent_$i.log" 2>&1 &
   pids+=("$!")
   agent_pids+=("$!")
@@ -156,24 +182,28 @@ last_start=$(now)
 
 # Wait for the hub's result (discovery timeout + answer timeout + margin).
 deadline=$(( $(date +%s) + timeout_s + 90 ))
-while [ ! -f "$out/hub.result" ]; do
-  if ! kill -0 "$hub_pid" 2>/dev/null; then
-    echo "discovery_scale: the hub exited early:" >&2
-    tail -5 "$out/hub.log" >&2
-    exit 1
-  fi
-  if [ "$(date +%s)" -gt "$deadline" ]; then
-    echo "discovery_scale: no result from the hub within $((timeout_s + 90)) s" >&2
-    exit 1
-  fi
-  nap 0.2
+for ((k = 0; k < shards; k++)); do
+  while [ ! -f "$out/hub$k.result" ]; do
+    if ! kill -0 "${hub_pids[$k]}" 2>/dev/null; then
+      echo "discovery_scale: hub $k exited early:" >&2
+      tail -5 "$out/hub$k.log" >&2
+      exit 1
+    fi
+    if [ "$(date +%s)" -gt "$deadline" ]; then
+      echo "discovery_scale: no result from hub $k within $((timeout_s + 90)) s" >&2
+      exit 1
+    fi
+    nap 0.2
+  done
 done
-result=$(cat "$out/hub.result")
-field() { sed -n "s/.*\b$1=\([^ ]*\).*/\1/p" <<< "$result"; }
-matched=$(field matched)
-answered=$(field answered)
-matched_at=$(field matched_at_unix)
-answered_at=$(field answered_at_unix)
+# Summed counts; the latest time (0, "never", if any hub never got there).
+read -r matched answered matched_at answered_at < <(cat "$out"/hub*.result | awk '
+  function field(name,   i, kv) { for (i = 1; i <= NF; i++) { split($i, kv, "="); if (kv[1] == name) return kv[2] } }
+  { split(field("matched"), m, "/"); split(field("answered"), a, "/")
+    mn += m[1]; md += m[2]; an += a[1]; ad += a[2]
+    t = field("matched_at_unix") + 0; if (t == 0) mnever = 1; if (t > mt) mt = t
+    t = field("answered_at_unix") + 0; if (t == 0) anever = 1; if (t > at) at = t }
+  END { printf "%d/%d %d/%d %.3f %.3f\n", mn, md, an, ad, mnever ? 0 : mt, anever ? 0 : at }')
 
 elapsed() {  # seconds from $2 to $1, or "n/a" when $1 is 0 (never happened)
   awk -v a="$1" -v b="$2" 'BEGIN { if (a + 0 == 0) print "n/a"; else printf "%.2f", a - b }'
@@ -209,7 +239,7 @@ memory() {  # prints "rss_kib pss_kib" of one process
   pss=$(awk '/^Pss:/ { print $2 }' "/proc/$1/smaps_rollup" 2>/dev/null || echo 0)
   echo "${rss:-0} ${pss:-0}"
 }
-read -r hub_rss hub_pss < <(memory "$hub_pid")
+read -r hub_rss hub_pss < <(for pid in "${hub_pids[@]}"; do memory "$pid"; done | awk '{ r += $1; p += $2 } END { print r + 0, p + 0 }')
 agent_mem=$(for pid in "${agent_pids[@]}"; do memory "$pid"; done)
 mem_stats=$(awk '$1 > 0 { n++; rss += $1; pss += $2; if ($1 > max) max = $1 }
   END { if (n == 0) n = 1; printf "%.1f %.1f %.1f %.1f", rss / n / 1024, max / 1024, pss / n / 1024, pss / 1024 }' \
@@ -222,6 +252,7 @@ profile=$profile
 hub_profile=${hub_profile:-built-in}
 agent_profile=${agent_profile:-built-in}
 agents=$agents
+shards=$shards
 domain=$domain
 agents_started_s=$(elapsed "$last_start" "$first_start")
 matched=$matched
