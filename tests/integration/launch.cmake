@@ -1,5 +1,6 @@
-# retreat-launch tests (deploy/launch): real processes, each TEST on its own DDS domain id in
-# 160..229 (see each file). Included from tests/integration/CMakeLists.txt. About 2 minutes.
+# retreat-launch tests (deploy/launch): real processes, each TEST on its own DDS domain ids
+# (tests/support/include/retreat/testing/domains.hpp). Included from
+# tests/integration/CMakeLists.txt.
 if(RETREAT_WITH_FASTDDS OR RETREAT_WITH_CYCLONEDDS)
   retreat_test(launch_test
     SOURCES ${CMAKE_CURRENT_LIST_DIR}/launch_runs_test.cpp ${CMAKE_CURRENT_LIST_DIR}/launch_faults_test.cpp

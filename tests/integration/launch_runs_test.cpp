@@ -317,7 +317,11 @@ TEST(LaunchRuns, InACycloneStarTheBridgeHearsEveryAgent) {
   ASSERT_EQ(run_launch(dir, {robotarium, "--dds", "cyclonedds", "--domain", std::to_string(domain_cyclone_star),
                              "--arena-profile", profiles + "cyclonedds-star-hub.xml", "--set",
                              "dds.profile=" + profiles + "cyclonedds-star-agent.xml", "--set", "agent.K_p=0",
-                             "--set", "agent.lambda_in=0", "--set", "bridge.http=127.0.0.1:0"},
+                             "--set", "agent.lambda_in=0", "--set", "bridge.http=127.0.0.1:0",
+                             // 300 s (10,000 ticks) is ample: every agent publishes its status
+                             // every run.status_period, and the status topic keeps each agent's
+                             // last one for a bridge that matches late (transient local).
+                             "--set", "run.duration=300"},
                        retreat::testing::hang_ceiling, /*bridge=*/true), 0) << log_of(dir);
   std::ifstream statuses(dir + "/run/agent_status.csv");
   ASSERT_TRUE(statuses.good()) << log_of(dir);
