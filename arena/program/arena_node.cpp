@@ -263,25 +263,31 @@ bool ArenaNode::plan_decision(const Robot& r, std::int64_t tick) {
   return tick == r.plan_through && r.plan_retreat;
 }
 
+bool ArenaNode::settled_plan(const Robot& r, const wire::Decision& p, std::int64_t current) {
+  if (r.phase == wire::Phase::departed) return true;  // the answer to its last frame: nothing to do
+  if (p.robot_id >= world_->robot_count()) {
+    ++counters_.unknown_robot;
+  } else if (const auto verdict = robot::judge_plan(p, current, r.frame_time);
+             verdict == robot::DecisionVerdict::future) {
+    ++counters_.future;
+  } else if (verdict == robot::DecisionVerdict::stale || r.record.lost) {
+    ++counters_.stale;  // answers a frame that is settled, or came from a lost agent
+  } else {
+    return false;
+  }
+  return true;
+}
+
 void ArenaNode::take_plans(Robot& r, std::int64_t current) {
   r.plans->take(taken_);
   for (const auto& p : taken_) {
-    if (r.phase == wire::Phase::departed) continue;  // the answer to its last frame: nothing to do
-    if (p.robot_id >= world_->robot_count()) {
-      ++counters_.unknown_robot;
-    } else if (const auto verdict = robot::judge_plan(p, current, r.frame_time);
-               verdict == robot::DecisionVerdict::future) {
-      ++counters_.future;
-    } else if (verdict == robot::DecisionVerdict::stale || r.record.lost) {
-      ++counters_.stale;  // answers a frame that is settled, or came from a lost agent
-    } else {
-      ++counters_.received;
-      r.answered = true;
-      r.plan_through = p.tick;
-      r.plan_retreat = p.retreat;
-      r.plan_phase = r.phase;
-      act_on_answer(r, plan_decision(r, current));
-    }
+    if (settled_plan(r, p, current)) continue;
+    ++counters_.received;
+    r.answered = true;
+    r.plan_through = p.tick;
+    r.plan_retreat = p.retreat;
+    r.plan_phase = r.phase;
+    act_on_answer(r, plan_decision(r, current));
   }
 }
 
@@ -450,13 +456,7 @@ void ArenaNode::count_leftover_plans() {
     if (!r->plans) continue;
     r->plans->take(taken_);
     for (const auto& p : taken_) {
-      if (p.robot_id >= world_->robot_count()) {
-        ++counters_.unknown_robot;
-      } else if (robot::judge_plan(p, current, r->frame_time) == robot::DecisionVerdict::future) {
-        ++counters_.future;
-      } else {
-        ++counters_.stale;  // a repeated answer, or one from a lost agent: its frame is settled
-      }
+      if (!settled_plan(*r, p, current)) ++counters_.stale;  // a repeat of the plan in force: settled too
     }
   }
 }

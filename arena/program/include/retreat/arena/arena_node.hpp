@@ -96,10 +96,15 @@ class ArenaNode {
   struct Robot;
   Robot& robot(std::uint32_t id);
   void take_decisions(Robot& r, std::int64_t current);
+  /// run.plans: true when plan @p p of robot @p r needs no action: the robot has departed (the
+  /// answer to its last frame), or the plan is counted dropped (unknown robot, future, stale or
+  /// from a lost agent); false when it answers the frame awaiting an answer.
+  bool settled_plan(const Robot& r, const wire::Decision& p, std::int64_t current);
   /// run.plans: takes robot @p r's plans; one that answers the frame awaiting an answer is kept.
   void take_plans(Robot& r, std::int64_t current);
   /// run.plans, at the end: counts the plans still unread (collect_available() reads only the
-  /// robots sent a frame) as dropped, judged like the others but acting on none.
+  /// robots sent a frame) as take_plans() would, acting on none: a departed robot's last answer
+  /// is not counted, every other one is dropped.
   void count_leftover_plans();
   /// Acts on robot @p r's decision for the current tick (from the wire or from its plan).
   void act_on_answer(Robot& r, bool retreat);
