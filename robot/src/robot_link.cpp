@@ -31,6 +31,12 @@ LinkOptions link_options(const scenario::Scenario& s, wire::RobotId robot_id) {
   if (s.dds.vendor == scenario::Vendor::inmemory) {
     throw std::invalid_argument("dds.vendor 'inmemory' cannot link a robot: use fastdds or cyclonedds");
   }
+  if (s.run.plans) {
+    // The agent would answer on the plan topic, which a link does not read: refuse, not hang.
+    throw std::invalid_argument(
+        "run.plans = true: a robot link sends a frame every tick and reads decisions, not plans; "
+        "set run.plans: false in the scenario its agent reads too");
+  }
   LinkOptions options;
   options.robot_id = robot_id;
   options.vendor = std::string(name_of(s.dds.vendor));

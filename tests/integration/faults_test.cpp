@@ -50,13 +50,13 @@ TEST(Faults, ABridgeKilledTwiceMidRunIsRestartedAndTheRunDirectoryLosesNothing) 
   if (::access(bridge_program.c_str(), X_OK) != 0) GTEST_SKIP() << "retreat-bridge is not built";
   const std::string vendor = built("fastdds") ? "fastdds" : "cyclonedds";
   const auto dir = fresh_dir("faults-bridge");
-  // 800 simulated seconds: 26,667 lockstep ticks, ~20 s of wall time over Fast DDS, enough
-  // for two kills and restarts (a bridge starts and matches in about a second).
-  auto l =
-      start_launch(dir,
-                   {robotarium, "--dds", vendor, "--domain", std::to_string(domain_kill_bridge),
-                    "--set", "run.duration=800", "--set", "bridge.http=127.0.0.1:0"},
-                   /*bridge=*/true);
+  // 800 simulated seconds: 26,667 per-tick lockstep ticks, ~20 s of wall time over Fast DDS,
+  // enough for two kills and restarts (a bridge starts and matches in about a second; with the
+  // shipped scenario's plans the run would end within a second).
+  auto l = start_launch(dir,
+                        {robotarium, "--dds", vendor, "--domain", std::to_string(domain_kill_bridge), "--set",
+                         "run.duration=800", "--set", "bridge.http=127.0.0.1:0", "--set", "run.plans=false"},
+                        /*bridge=*/true);
   const std::string status_csv = l.out + "/agent_status.csv";
   std::vector<std::vector<std::string>> before_kill;  // agent_status.csv as each kill found it
   pid_t previous = -1;
@@ -195,7 +195,7 @@ TEST(Faults, ALockstepArenaResumedByHandGivesTheUninterruptedTrajectory) {
   const std::vector<std::string> common = {
       "--scenario", robotarium,        "--dds",
       vendor,       "--domain",        std::to_string(domain_resume_lockstep_arena),
-      "--set",      "run.duration=200"};
+      "--set",      "run.duration=200", "--set", "run.plans=false"};  // per tick: killed mid-run
   auto arena_args = std::vector<std::string>{RETREAT_ARENA_BIN, "--out", out};
   arena_args.insert(arena_args.end(), common.begin(), common.end());
   std::deque<testing::ChildProcess> agents;
@@ -266,7 +266,9 @@ TEST_P(LauncherResumesLockstep, AnArenaKilledMidRunAndTheRunHasTheUninterruptedT
   // Killed once some are journalled, about 10,000 ticks remain: more than an agent's keep-all
   // decision writer could hold for the dead arena (Fast DDS 4,096 samples) before its lease
   // expired (20 s) when the machine runs them that fast; a bounded writer never blocks on it.
-  const std::vector<std::string> run = {robotarium, "--set", "run.duration=400", "--set", "seed=5"};
+  // Per tick (the plans case adds run.plans=true after): the run lasts long enough to kill in.
+  const std::vector<std::string> run = {robotarium, "--set", "run.duration=400", "--set", "seed=5", "--set",
+                                        "run.plans=false"};
   constexpr std::int64_t ticks = 13334;
   auto reference_args = run;
   reference_args.push_back("--in-process");

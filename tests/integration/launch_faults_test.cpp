@@ -87,7 +87,8 @@ TEST(LaunchFaults, TwoAgentsKilledMidRunAreCountedLostAndTheRunCompletes) {
   // 11 wait in the queue until t = 50 s and 66 s: killed at t >= 10 s, still there, still answering.
   json j;
   kill_agents_and_finish("kill-agents", vendor, domain_kill_agents,
-                         {"--set", "run.duration=200", "--set", "run.agent_timeout=1"}, 10.0, {10, 11}, j);
+                         {"--set", "run.duration=200", "--set", "run.agent_timeout=1", "--set", "run.plans=false"},
+                         10.0, {10, 11}, j);
   if (HasFatalFailure()) return;
   EXPECT_EQ(j["agents"]["lost"], 2);
   EXPECT_EQ(j["ticks"], 6667);
@@ -114,7 +115,10 @@ TEST(LaunchFaults, WithPlansTwoAgentsKilledWhileTheirPlansAreInForceAreCountedLo
 TEST(LaunchFaults, AnArenaKilledMoreOftenThanItIsResumedStopsEveryChildAndTheLauncherFails) {
   const std::string vendor = built("fastdds") ? "fastdds" : "cyclonedds";
   const auto dir = fresh_dir("kill-arena");
-  auto l = start_launch(dir, {robotarium, "--dds", vendor, "--domain", std::to_string(domain_kill_arena)});
+  // Per tick: the 1,200 s run lasts long enough to be killed in (with the shipped scenario's
+  // plans it may end within a second).
+  auto l = start_launch(dir, {robotarium, "--dds", vendor, "--domain", std::to_string(domain_kill_arena), "--set",
+                              "run.plans=false"});
   const auto processes = wait_for_processes(l.out);
   ASSERT_FALSE(processes.empty()) << log_of(dir);
   ASSERT_TRUE(wait_for_simulated_time(vendor, domain_kill_arena, 5.0)) << log_of(dir);
@@ -145,7 +149,8 @@ TEST(LaunchFaults, AnArenaKilledMoreOftenThanItIsResumedStopsEveryChildAndTheLau
 TEST(LaunchFaults, SigtermStopsEveryChildAndKeepsTheSummary) {
   const std::string vendor = built("cyclonedds") ? "cyclonedds" : "fastdds";
   const auto dir = fresh_dir("stop-launcher");
-  auto l = start_launch(dir, {robotarium, "--dds", vendor, "--domain", std::to_string(domain_stop_launcher)});
+  auto l = start_launch(dir, {robotarium, "--dds", vendor, "--domain", std::to_string(domain_stop_launcher), "--set",
+                              "run.plans=false"});  // per tick: still running when stopped
   const auto processes = wait_for_processes(l.out);
   ASSERT_FALSE(processes.empty()) << log_of(dir);
   ASSERT_TRUE(wait_for_simulated_time(vendor, domain_stop_launcher, 5.0)) << log_of(dir);

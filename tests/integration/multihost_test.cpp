@@ -58,13 +58,14 @@ constexpr int domain_fastdds_lossy = testing::domains::multihost.at(6);
 
 const std::string scenario = std::string(RETREAT_SCENARIOS) + "/robotarium-2019.yaml";
 const std::string profiles = RETREAT_DDS_PROFILES;
-/// robotarium-2019 shortened to 200 simulated seconds: 6,667 lockstep ticks.
-const std::vector<std::string> short_run = {"--set", "run.duration=200"};
+/// robotarium-2019 shortened to 200 simulated seconds: 6,667 lockstep ticks, per tick (the
+/// shipped scenario runs plans): every tick's frames and decisions cross the emulated network.
+const std::vector<std::string> short_run = {"--set", "run.duration=200", "--set", "run.plans=false"};
 constexpr std::int64_t short_run_ticks = 6667;
 /// Fast DDS over the lossy network: a tick that loses a packet waits for the writer's next
 /// heartbeat (100 ms, set by the adapter) and the repair, about 11 ticks/s at 5 % loss (Cyclone
 /// DDS repairs faster and runs short_run): 8 simulated seconds, 267 ticks.
-const std::vector<std::string> lossy_run = {"--set", "run.duration=8"};
+const std::vector<std::string> lossy_run = {"--set", "run.duration=8", "--set", "run.plans=false"};
 constexpr std::int64_t lossy_run_ticks = 267;
 constexpr int robots = 12;  // robots_inside 8 + robots_waiting 4
 const std::string ns_prefix = "retreat-mh-";

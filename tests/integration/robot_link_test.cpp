@@ -336,5 +336,19 @@ TEST(RobotExample, BadArgumentsAreOneLineAndExitTwo) {
   std::remove((::testing::TempDir() + "/robot_example_args.log").c_str());
 }
 
+TEST(RobotExample, AScenarioWithPlansIsRefusedInOneLine) {
+  // The shipped scenarios run event-driven lockstep (run.plans: true), which a link does not
+  // speak: its agent would answer with plans it never reads. Refused at start, not a hang.
+  const std::string scenario = ::testing::TempDir() + "/robot_example_plans.yaml";
+  std::ofstream(scenario) << "run:\n  mode: lockstep\n  plans: true\ndds:\n  vendor: cyclonedds\n";
+  const auto [code, output] = testing::run_to_exit({RETREAT_ROBOT_EXAMPLE_BIN, "--robot-id", "1", "--scenario", scenario},
+                                                   ::testing::TempDir() + "/robot_example_plans.log");
+  EXPECT_EQ(code, 2) << output;
+  EXPECT_NE(output.find("run.plans = true"), std::string::npos) << output;
+  EXPECT_EQ(std::count(output.begin(), output.end(), '\n'), 1) << output;
+  std::remove(scenario.c_str());
+  std::remove((::testing::TempDir() + "/robot_example_plans.log").c_str());
+}
+
 }  // namespace
 }  // namespace retreat

@@ -44,9 +44,11 @@ std::string shared_pki() {
 
 /// robotarium-2019 for 120 simulated s (4,000 ticks): long enough that agents retreat (seed 1:
 /// seven of them), so the trajectory hash depends on every agent's decisions; 4–12 s of wall time.
+/// Per-tick lockstep (the shipped scenario runs plans; a test adds run.plans=true after these):
+/// the arena reads every robot's decision topic every tick, where the intruder injects.
 std::vector<std::string> run_args(const std::string& vendor, int domain) {
   return {robotarium, "--dds", vendor, "--domain", std::to_string(domain), "--seed", "1",
-          "--set", "run.duration=120"};
+          "--set", "run.duration=120", "--set", "run.plans=false"};
 }
 std::vector<std::string> secure(std::vector<std::string> args, const std::string& pki) {
   args.insert(args.end(), {"--set", "dds.security=on", "--set", "dds.security_dir=" + pki});

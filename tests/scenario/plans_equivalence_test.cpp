@@ -52,8 +52,9 @@ struct Run {
 };
 
 Run run(const Case& c, const std::vector<std::string>& extra) {
+  // Per tick unless `extra` says otherwise (the shipped scenarios set run.plans: true).
   std::vector<std::string> overrides = {"agent.controller=" + c.controller, "run.duration=150", "agent.L=20",
-                                        "agent.K_p=0.5"};
+                                        "agent.K_p=0.5", "run.plans=false"};
   if (c.scenario == "kinetic-1000.yaml") overrides.push_back("arena.robots_inside=200");  // CI time
   overrides.insert(overrides.end(), extra.begin(), extra.end());
   const auto s = scenario::load(std::string(RETREAT_SCENARIOS) + "/" + c.scenario, overrides);
@@ -171,7 +172,7 @@ struct StatusRun {
 
 StatusRun status_run(const Case& c, const std::vector<std::string>& extra) {
   std::vector<std::string> overrides = {"agent.controller=" + c.controller, "run.duration=150", "agent.L=20",
-                                        "agent.K_p=0.5", "run.status_period=0.5"};
+                                        "agent.K_p=0.5", "run.status_period=0.5", "run.plans=false"};
   overrides.insert(overrides.end(), extra.begin(), extra.end());
   const auto s = scenario::load(std::string(RETREAT_SCENARIOS) + "/" + c.scenario, overrides);
   auto bus = transport::make_inmemory_bus(transport::Threading::confined);

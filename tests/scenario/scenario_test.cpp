@@ -53,6 +53,22 @@ TEST(ShippedScenarios, TheRobotariumScenarioHasTheExperimentsParameters) {
   EXPECT_NEAR(model::lambda_star(s.model), 1.5076, 1e-4);
 }
 
+TEST(ShippedScenarios, LockstepScenariosRunPlansWhichRealTimeTurnsOff) {
+  // Event-driven lockstep is what the shipped scenarios run (proven equal to per-tick lockstep);
+  // plans are lockstep's, so switching a shipped scenario to real time needs no second override.
+  for (const auto& f : shipped()) {
+    SCOPED_TRACE(f);
+    const auto s = load(f);
+    EXPECT_EQ(s.run.mode, RunMode::lockstep);
+    EXPECT_TRUE(s.run.plans);
+    const auto realtime = load(f, {"run.mode=realtime"});
+    EXPECT_FALSE(realtime.run.plans);
+    EXPECT_FALSE(load(f, {"run.plans=false"}).run.plans);
+  }
+  // A scenario that does not say gets per-tick lockstep, what a per-tick robot driver speaks.
+  EXPECT_FALSE(parse("run:\n  mode: lockstep\n").run.plans);
+}
+
 TEST(ScenarioLoader, OverridesApplyInOrderAndReachTheArenasCopies) {
   const auto s = parse("agent: {dt: 0.03}\n", {"agent.dt=0.05", "seed=42", "model.delta=0.12"});
   EXPECT_DOUBLE_EQ(s.agent.dt, 0.05);

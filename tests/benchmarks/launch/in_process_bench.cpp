@@ -35,7 +35,7 @@ retreat::scenario::Scenario scenario_of(std::int64_t robots, bool physical, bool
       "arena.height=" + std::to_string(side),
       "run.duration=" + std::to_string(static_cast<double>(ticks_of(physical)) * 0.03)};
   if (physical) overrides.emplace_back("arena.encounter_model=physical");
-  if (plans) overrides.emplace_back("run.plans=true");
+  overrides.emplace_back(plans ? "run.plans=true" : "run.plans=false");  // the scenario says true
   return retreat::scenario::load(RETREAT_SCENARIOS "/kinetic-1000.yaml", overrides);
 }
 
