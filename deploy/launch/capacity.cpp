@@ -80,7 +80,9 @@ DiscoveryLimit cyclone_limit(const tinyxml2::XMLDocument& doc, const std::string
   const auto index = written ? expanded(*written) : std::nullopt;
   if (written && !index) return {std::nullopt, profile};  // nothing the launcher can count: not refused
   // Cyclone DDS 0.10's default is "none": free ports, no index to run out of.
-  if (!index || *index == "none") return {std::nullopt, profile + " (ParticipantIndex none)"};
+  if (!index || *index == "none") {
+    return {std::nullopt, profile + " (ParticipantIndex none)", cyclone_star_agents};
+  }
   if (*index == "auto") {
     const auto max_written = first_text(doc, "MaxAutoParticipantIndex");
     const auto max_text = max_written ? expanded(*max_written) : std::optional<std::string>("9");  // Cyclone's default
@@ -186,6 +188,13 @@ std::optional<std::string> capacity_refusal(const Plan& plan, const scenario::Sc
              limit.settings + " discover at most " + std::to_string(*limit.participants) +
              ": use the star profiles (deploy/dds/*-star-*.xml or the Fast DDS discovery-server pair, "
              "with --arena-profile; docs/dds-profiles.md), or fewer agents per host";
+    }
+    if (limit.agents && agents > *limit.agents) {
+      return std::to_string(agents) + " agents with " + limit.settings + ", but such a swarm was measured to run " +
+             "with at most " + std::to_string(*limit.agents) +
+             " (the arena announces its 2 endpoints per robot to every agent: 2N^2 announcements; "
+             "docs/benchmarks.md, \"Discovery\"): run fewer agents per swarm, or try the Fast DDS "
+             "discovery-server profiles (measured up to 200)";
     }
   }
   std::uint64_t threads = 0;

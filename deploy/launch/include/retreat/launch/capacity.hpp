@@ -19,7 +19,16 @@ struct DiscoveryLimit {
   /// (a star: agents announce to the hub only and take free ports).
   std::optional<std::uint32_t> participants;
   std::string settings;  ///< what the limit comes from, for the refusal line
+  /// At most this many agents in one swarm with these settings, whatever the indices: endpoint
+  /// discovery is per participant, so the arena announces its writer and reader of every robot
+  /// to every agent (2N² announcements). none: not measured to break.
+  std::optional<std::uint32_t> agents = std::nullopt;
 };
+
+/// The most agents a Cyclone DDS swarm without participant indices (the star's agents) was
+/// measured to run with on this 2-core machine: 300 matched in 17 s and all answered; of 400, 69
+/// answered within a minute (docs/benchmarks.md, "Discovery").
+inline constexpr std::uint32_t cyclone_star_agents = 300;
 
 /// The limit of @p vendor's settings: its built-in loopback settings when @p profile is empty
 /// (participant indices 0..119: the ports a domain's block holds), else what the profile file
