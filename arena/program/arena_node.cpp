@@ -190,6 +190,9 @@ ExternalCounters ArenaNode::external_counters() const {
 
 void ArenaNode::publish_tick() {
   sent_.clear();
+  // The run's last tick is sent to every robot, its plan in force or not: its agent then acts on
+  // the ticks the plan covered, and publishes their statuses, before the run ends.
+  const bool last = duration_reached();
   for (const auto& f : world_->frames()) {
     auto& r = robot(f.id);
     r.phase = to_wire(f.phase);
@@ -204,7 +207,7 @@ void ArenaNode::publish_tick() {
     // reader that never acknowledges, and block once its history is full.
     if (r.record.lost) continue;
     if (r.plans) {
-      if (f.tick <= r.plan_through && r.sensed_onsets == 0 && r.phase == r.plan_phase) {
+      if (!last && f.tick <= r.plan_through && r.sensed_onsets == 0 && r.phase == r.plan_phase) {
         // Covered: the agent decided this tick already, in the plan it answered with.
         ++counters_.planned;
         if (r.expecting) act_on_answer(r, plan_decision(r, f.tick));
@@ -426,9 +429,13 @@ void ArenaNode::advance(const RetreatJournal* journal) {
   }
 }
 
+bool ArenaNode::duration_reached() const {
+  return world_->telemetry().time >= scenario_.run.duration - 1e-9;
+}
+
 bool ArenaNode::finished() const {
+  if (duration_reached()) return true;
   const auto t = world_->telemetry();
-  if (t.time >= scenario_.run.duration - 1e-9) return true;
   return t.inside == 0 && t.retreating == 0 && t.waiting == 0 && t.tick > 0;
 }
 

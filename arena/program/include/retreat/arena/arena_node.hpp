@@ -100,6 +100,8 @@ class ArenaNode {
   /// answer to its last frame), or the plan is counted dropped (unknown robot, future, stale or
   /// from a lost agent); false when it answers the frame awaiting an answer.
   bool settled_plan(const Robot& r, const wire::Decision& p, std::int64_t current);
+  /// The current tick is at or past run.duration: the run's last.
+  bool duration_reached() const;
   /// run.plans: takes robot @p r's plans; one that answers the frame awaiting an answer is kept.
   void take_plans(Robot& r, std::int64_t current);
   /// run.plans, at the end: counts the plans still unread (collect_available() reads only the
