@@ -123,8 +123,7 @@ std::uint32_t ArenaNode::wait_for_agents(std::chrono::nanoseconds timeout, const
     if (r->record.matched) {
       ++agents_started_;
     } else if (!departed(*r)) {
-      r->record.lost = true;  // never came: the robot works without a retreat layer
-      r->record.lost_at = 0.0;
+      declare_lost(*r, 0.0);  // never came: the robot works without a retreat layer
     }
   }
   for (auto& r : robots_) {
@@ -192,7 +191,7 @@ void ArenaNode::publish_tick() {
   sent_.clear();
   // The run's last tick is sent to every robot, its plan in force or not: its agent then acts on
   // the ticks the plan covered, and publishes their statuses, before the run ends.
-  const bool last = duration_reached();
+  const bool last = settle_plans_at_end_ && duration_reached();
   for (const auto& f : world_->frames()) {
     auto& r = robot(f.id);
     r.phase = to_wire(f.phase);
@@ -221,8 +220,7 @@ void ArenaNode::publish_tick() {
       if (r.expecting) {
         // The agent's reader has stopped acknowledging: treat it like a silent agent.
         r.expecting = false;
-        r.record.lost = true;
-        r.record.lost_at = f.time;
+        declare_lost(r, f.time);
       }
       continue;
     }
@@ -363,10 +361,7 @@ bool ArenaNode::collect_lockstep(const KeepGoing& keep_going) {
     }
     if (std::chrono::steady_clock::now() >= deadline) {
       for (auto& r : robots_) {
-        if (r->expecting && !r->answered && !r->record.lost) {
-          r->record.lost = true;
-          r->record.lost_at = world_->telemetry().time;
-        }
+        if (r->expecting && !r->answered && !r->record.lost) declare_lost(*r, world_->telemetry().time);
       }
       return true;
     }
@@ -419,7 +414,8 @@ void ArenaNode::advance(const RetreatJournal* journal) {
     }
   }
   world_->step_tick();
-  for (const auto& f : world_->frames()) robot(f.id);  // endless queue: new robots appear
+  // Endless queue: new robots appear (ids are dense: the last one gives every one before it).
+  if (const auto count = world_->robot_count(); count > 0) robot(static_cast<std::uint32_t>(count - 1));
   if (recorder_ != nullptr) {
     recorder_->record_tick(world_->telemetry(), journal == nullptr);
     if (scenario_.arena.record_encounters) {
@@ -451,10 +447,12 @@ DecisionCounters ArenaNode::decisions() const {
 
 std::int64_t ArenaNode::tick() const { return world_->telemetry().tick; }
 
-std::uint32_t ArenaNode::agents_lost() const {
-  std::uint32_t n = 0;
-  for (const auto& r : robots_) n += r->record.lost && r->record.matched ? 1 : 0;
-  return n;
+std::uint32_t ArenaNode::agents_lost() const { return agents_lost_; }
+
+void ArenaNode::declare_lost(Robot& r, double at) {
+  r.record.lost = true;
+  r.record.lost_at = at;
+  if (r.record.matched) ++agents_lost_;  // an agent that never came is not counted lost
 }
 
 void ArenaNode::count_leftover_plans() {

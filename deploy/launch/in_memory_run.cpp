@@ -36,6 +36,7 @@ InMemoryRun run_in_memory(const scenario::Scenario& s, arena::RunRecorder* recor
 
   auto arena_transport = participant("retreat-arena", wire::arena_user_data);
   arena::ArenaNode arena(s, *arena_transport, recorder);
+  arena.settle_plans_at_end(false);  // nobody reads the agents' statuses on this private bus
 
   // By robot id; empty once the robot has departed. Ids only grow and are dense, so the robots
   // without an agent yet are the ids from agents.size() on.

@@ -54,6 +54,13 @@ class ArenaNode {
   /// Publishes the current tick's frames (and telemetry and poses when due).
   void publish_tick();
 
+  /// With run.plans: whether the run's last tick is sent to every robot, its plan in force or
+  /// not (the default), so that every agent acts on the ticks its plan covered and publishes
+  /// their statuses before the run ends. Off where nobody reads the statuses (run_in_memory,
+  /// whose bus is the run's own), saving up to run.plan_horizon steps per agent; the trajectory
+  /// is the same either way.
+  void settle_plans_at_end(bool on) { settle_plans_at_end_ = on; }
+
   /// Lockstep: receives decisions until every live agent answered the current tick; an agent
   /// silent for run.agent_timeout is declared lost. Returns false if `keep_going` said stop.
   bool collect_lockstep(const KeepGoing& keep_going);
@@ -102,6 +109,9 @@ class ArenaNode {
   bool settled_plan(const Robot& r, const wire::Decision& p, std::int64_t current);
   /// The current tick is at or past run.duration: the run's last.
   bool duration_reached() const;
+  /// Declares robot @p r's agent lost at simulated time @p at (counted in agents_lost() if it
+  /// had matched).
+  void declare_lost(Robot& r, double at);
   /// run.plans: takes robot @p r's plans; one that answers the frame awaiting an answer is kept.
   void take_plans(Robot& r, std::int64_t current);
   /// run.plans, at the end: counts the plans still unread (collect_available() reads only the
@@ -137,6 +147,8 @@ class ArenaNode {
   std::int64_t last_published_slot_ = -1;
   std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
   std::uint32_t agents_started_ = 0;
+  bool settle_plans_at_end_ = true;
+  std::uint32_t agents_lost_ = 0;  ///< agents that matched and were declared lost (declare_lost)
   std::int64_t resumed_at_tick_ = -1;
 };
 
