@@ -51,13 +51,27 @@ struct Run {
   std::uint32_t left = 0;  ///< robots that retreated or departed by the end
 };
 
-Run run(const Case& c, const std::vector<std::string>& extra) {
-  // Per tick unless `extra` says otherwise (the shipped scenarios set run.plans: true).
+/// @p c's scenario shortened as the header says, per tick unless @p extra says otherwise (the
+/// shipped scenarios set run.plans: true).
+scenario::Scenario shortened(const Case& c, const std::vector<std::string>& extra) {
   std::vector<std::string> overrides = {"agent.controller=" + c.controller, "run.duration=150", "agent.L=20",
                                         "agent.K_p=0.5", "run.plans=false"};
   if (c.scenario == "kinetic-1000.yaml") overrides.push_back("arena.robots_inside=200");  // CI time
   overrides.insert(overrides.end(), extra.begin(), extra.end());
-  const auto s = scenario::load(std::string(RETREAT_SCENARIOS) + "/" + c.scenario, overrides);
+  return scenario::load(std::string(RETREAT_SCENARIOS) + "/" + c.scenario, overrides);
+}
+
+/// A participant named @p name on @p bus, in @p s's domain.
+std::unique_ptr<transport::Transport> participant(const std::shared_ptr<transport::InMemoryBus>& bus,
+                                                  const scenario::Scenario& s, const std::string& name) {
+  transport::ParticipantOptions o;
+  o.domain_id = s.dds.domain;
+  o.name = name;
+  return transport::make_inmemory_transport(bus, o);
+}
+
+Run run(const Case& c, const std::vector<std::string>& extra) {
+  const auto s = shortened(c, extra);
   Run out;
   out.result = launch::run_in_memory(s, nullptr, [] { return true; }, [&](const arena::ArenaNode& arena, double) {
     const auto t = arena.world().telemetry();
@@ -121,17 +135,11 @@ arena::RunSummary lone_robot_run(bool extra) {
   const auto s = scenario::load(std::string(RETREAT_SCENARIOS) + "/kinetic-1000.yaml",
                                 {"arena.robots_inside=1", "run.duration=1.5", "run.plans=true"});
   auto bus = transport::make_inmemory_bus(transport::Threading::confined);
-  auto participant = [&](const std::string& name) {
-    transport::ParticipantOptions o;
-    o.domain_id = s.dds.domain;
-    o.name = name;
-    return transport::make_inmemory_transport(bus, o);
-  };
-  auto arena_transport = participant("arena");
+  auto arena_transport = participant(bus, s, "arena");
   arena::ArenaNode arena(s, *arena_transport, nullptr);
-  auto agent_transport = participant("agent");
+  auto agent_transport = participant(bus, s, "agent");
   agent::AgentNode agent(s, 0, *agent_transport);
-  auto stray_transport = participant("stray");
+  auto stray_transport = participant(bus, s, "stray");
   auto stray = stray_transport->create_writer<wire::Decision>(
       {wire::plan_topic(s.dds.prefix, 0), transport::QosIntent::answers()});
   EXPECT_EQ(arena.wait_for_agents(std::chrono::seconds(1), [] { return true; }), 1u);
@@ -172,22 +180,15 @@ struct StatusRun {
 };
 
 StatusRun status_run(const Case& c, const std::vector<std::string>& extra) {
-  std::vector<std::string> overrides = {"agent.controller=" + c.controller, "run.duration=150", "agent.L=20",
-                                        "agent.K_p=0.5", "run.status_period=0.5", "run.plans=false"};
+  std::vector<std::string> overrides = {"run.status_period=0.5"};
   overrides.insert(overrides.end(), extra.begin(), extra.end());
-  const auto s = scenario::load(std::string(RETREAT_SCENARIOS) + "/" + c.scenario, overrides);
+  const auto s = shortened(c, overrides);
   auto bus = transport::make_inmemory_bus(transport::Threading::confined);
-  auto participant = [&](const std::string& name) {
-    transport::ParticipantOptions o;
-    o.domain_id = s.dds.domain;
-    o.name = name;
-    return transport::make_inmemory_transport(bus, o);
-  };
-  auto listener = participant("listener");
+  auto listener = participant(bus, s, "listener");
   // Keep all (the topic's writers keep the last status per robot): every status, in order.
   auto statuses = listener->create_reader<wire::AgentStatus>(
       {wire::agent_status_topic(s.dds.prefix), transport::QosIntent::control()});
-  auto arena_transport = participant("arena");
+  auto arena_transport = participant(bus, s, "arena");
   arena::ArenaNode arena(s, *arena_transport, nullptr);
   struct Agent {
     std::unique_ptr<transport::Transport> transport;
@@ -203,7 +204,7 @@ StatusRun status_run(const Case& c, const std::vector<std::string>& extra) {
   const auto start_agents = [&] {
     for (auto id = static_cast<std::uint32_t>(agents.size()); id < arena.world().robot_count(); ++id) {
       auto& a = agents.emplace_back();
-      a.transport = participant("agent_" + std::to_string(id));
+      a.transport = participant(bus, s, "agent_" + std::to_string(id));
       a.node = std::make_unique<agent::AgentNode>(s, id, *a.transport);
     }
   };
