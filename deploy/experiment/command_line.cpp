@@ -210,7 +210,7 @@ struct RobotariumLine {
   }
 };
 
-/// A subcommand whose only own option is --seeds (controllers, noise, sweep): the options, then
+/// A subcommand whose own options are --seeds and --controllers (controllers, noise, sweep): the options, then
 /// their check. `Options` has `common` and `seeds`.
 template <typename Options>
 struct SeedsLine {
@@ -222,6 +222,7 @@ struct SeedsLine {
   const char* seeds_help;
   Options o;
   std::string seeds;
+  std::string controllers;
   CLI::App* sub = nullptr;
 
   void add(CLI::App& app) {
@@ -229,10 +230,14 @@ struct SeedsLine {
     add_common(sub, o.common);
     add_jobs(sub, o.common);
     sub->add_option("--seeds", seeds, seeds_help);
+    sub->add_option("--controllers", controllers,
+                    "registered rules to compare, comma-separated (default: every one; paper always runs, "
+                    "as the reference)");
   }
   Options finish() {
     finish_common(o.common, name);
     if (!seeds.empty()) o.seeds = parse_seed_range(seeds, "--seeds");
+    if (!controllers.empty()) o.common.controllers = parse_controllers(controllers);
     require_launcher(o.common);
     return o;
   }

@@ -1,7 +1,9 @@
 #include "retreat/experiment/common.hpp"
 
+#include "retreat/agent/controller_registry.hpp"
 #include "retreat/core/paths.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -54,6 +56,37 @@ void write_text(const std::string& path, const std::string& text) {
 }
 
 void write_json(const std::string& path, const nlohmann::json& j) { write_text(path, sanitised(j).dump(2) + '\n'); }
+
+std::vector<std::string> compared_controllers(const Common& common) {
+  std::vector<std::string> rules;
+  for (const auto& name : agent::controller_names()) {
+    const bool asked = common.controllers.empty() ||
+                       std::find(common.controllers.begin(), common.controllers.end(), name) != common.controllers.end();
+    if (name == "paper" || asked) rules.push_back(name);
+  }
+  return rules;
+}
+
+std::vector<std::string> parse_controllers(const std::string& text) {
+  std::string registered;
+  for (const auto& name : agent::controller_names()) registered += (registered.empty() ? "" : ", ") + name;
+  std::vector<std::string> names;
+  std::size_t from = 0;
+  while (from <= text.size()) {
+    const std::size_t comma = std::min(text.find(',', from), text.size());
+    const std::string name = text.substr(from, comma - from);
+    if (!agent::is_controller_name(name)) {
+      throw UsageError("--controllers '" + text + "': '" + name + "' is not a registered controller (" + registered +
+                       ")");
+    }
+    if (std::find(names.begin(), names.end(), name) != names.end()) {
+      throw UsageError("--controllers '" + text + "': '" + name + "' is named twice");
+    }
+    names.push_back(name);
+    from = comma + 1;
+  }
+  return names;
+}
 
 std::vector<QueueCase> queue_cases(const Common& common) {
   return {{"finite", "finite queue (robotarium-2019)", scenario_file(common, "robotarium-2019.yaml")},

@@ -1,5 +1,5 @@
-// `retreat-experiment controllers`: every registered controller (retreat::agent::controller_names())
-// against `paper` on the same seeds and scenarios, each run by retreat-launch in one process:
+// `retreat-experiment controllers`: every registered controller (retreat::agent::controller_names(),
+// or the ones --controllers names) against `paper` on the same seeds and scenarios, each run by retreat-launch in one process:
 // the finite queue (robotarium-2019.yaml) and the endless queue (steady-influx.yaml), physical
 // world. Per run, from telemetry.csv (MODEL.md §4, with the measured output in place of T(λ)λ):
 //   λ̄ = time-mean of the robots inside D / |D|,  output = deliveries / (|D| · span),
@@ -16,8 +16,7 @@
 
 #include "ensemble.hpp"
 #include "page.hpp"
-#include "prediction.hpp"
-#include "retreat/agent/controller_registry.hpp"
+#include "retreat/experiment/prediction.hpp"
 #include "retreat/report/figures.hpp"
 #include "retreat/model/optimum.hpp"
 #include "retreat/model/population.hpp"
@@ -43,7 +42,8 @@ struct Tables {
         results_csv(out + "/results.csv",
                     {"scenario", "controller", "seeds", "duration", "J_whole_pooled", "J_last_half_pooled",
                      "J_last_half_mean", "J_last_half_sd", "mean_population_last_half",
-                     "predicted_population_last_half", "final_mean", "final_sd",
+                     "predicted_population_last_half", "predicted_by_robot_population_last_half", "final_mean",
+                     "final_sd",
                      "final_min", "final_max", "optimum", "departed_mean", "departed_min", "departed_max",
                      "deliveries_mean", "lost_total"}),
         population(out + "/population.csv", {"ensemble", "time", "mean", "sd", "min", "max"}) {}
@@ -51,8 +51,10 @@ struct Tables {
   nlohmann::json results = nlohmann::json::array(), rows = nlohmann::json::array(), figures = nlohmann::json::array();
   std::string markdown =
       "| scenario | controller | J whole run | J last half | J last half per seed | population last half | "
-      "predicted (chain) | final population | final min–max | optimum λ*·\\|D\\| | robots that left (min–max) |\n"
-      "|---|---|---|---|---|---|---|---|---|---|---|\n";
+      "predicted (chain) | predicted (by robot) | final population | final min–max | optimum λ*·\\|D\\| | robots "
+      "that left (min–max) |\n"
+      "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  std::uint32_t by_robot_runs = 200;  ///< runs of the robot-by-robot chain (quick: 20)
 };
 
 /// Every controller on `c`, one ensemble each (paper first).
@@ -83,12 +85,14 @@ void tabulate(Tables& t, const QueueCase& c, const Ensemble& e, const scenario::
   const auto predicted = predicted_population(s, e.label, duration);
   const double predicted_half =
       predicted ? model::time_mean(*predicted, s.agent.dt, duration / 2.0, duration) : std::nan("");
+  const double by_robot_half = model::time_mean(robot_by_robot_chain(s, e.label, duration, t.by_robot_runs),
+                                                s.agent.dt, duration / 2.0, duration);
   for (const auto& r : e.runs) {
     t.per_seed.row({c.name, e.label, r.seed, r.whole.J, r.whole.lambda, r.whole.output, r.last_half.J,
                     r.last_half.lambda, r.last_half.output, r.final_population, optimum, r.departed, r.agents_lost});
   }
   t.results_csv.row({c.name, e.label, e.runs.size(), e.runs.front().duration, jw, jh, j_half.mean, j_half.sd,
-                     pop_half.mean, predicted_half, final_pop.mean, final_pop.sd, final_pop.min, final_pop.max, optimum,
+                     pop_half.mean, predicted_half, by_robot_half, final_pop.mean, final_pop.sd, final_pop.min, final_pop.max, optimum,
                      departed.mean, departed.min, departed.max, deliveries.mean, lost});
   t.results.push_back({{"scenario", c.name}, {"controller", e.label}, {"seeds", e.runs.size()},
                        {"duration", e.runs.front().duration}, {"J_whole_pooled", jw}, {"J_last_half_pooled", jh},
@@ -96,6 +100,7 @@ void tabulate(Tables& t, const QueueCase& c, const Ensemble& e, const scenario::
                        {"mean_population_last_half", {{"mean", pop_half.mean}, {"sd", pop_half.sd}}},
                        {"predicted_population_last_half",
                         predicted ? nlohmann::json(predicted_half) : nlohmann::json(nullptr)},
+                       {"predicted_by_robot_population_last_half", by_robot_half},
                        {"final_population", {{"mean", final_pop.mean}, {"sd", final_pop.sd}, {"min", final_pop.min},
                                              {"max", final_pop.max}}},
                        {"optimum", optimum}, {"J_at_optimum_ctmc", model::cost(s.model, model::lambda_star(s.model))},
@@ -103,7 +108,7 @@ void tabulate(Tables& t, const QueueCase& c, const Ensemble& e, const scenario::
                        {"deliveries_mean", deliveries.mean}, {"agents_lost_total", lost}});
   const std::vector<std::string> cells = {
       c.name, e.label, fixed(jw, 3), fixed(jh, 3), pm(j_half, 3), pm(pop_half, 2),
-      predicted ? fixed(predicted_half, 2) : std::string("—"), pm(final_pop, 2),
+      predicted ? fixed(predicted_half, 2) : std::string("—"), fixed(by_robot_half, 2), pm(final_pop, 2),
       fixed(final_pop.min, 0) + "–" + fixed(final_pop.max, 0), fixed(optimum, 2),
       fixed(departed.mean, 1) + " (" + fixed(departed.min, 0) + "–" + fixed(departed.max, 0) + ")"};
   t.rows.push_back(cells);
@@ -151,13 +156,16 @@ void add_case_figures(nlohmann::json& figures, const QueueCase& c, const std::ve
 }
 
 /// results.md: a note, then the table.
-void write_markdown(const std::string& out, const SeedRange& seeds, const std::string& markdown) {
+void write_markdown(const std::string& out, const SeedRange& seeds, std::uint32_t by_robot_runs,
+                    const std::string& markdown) {
   write_text(out + "/results.md", "Seeds " + seeds.text() + ", in-process, physical world. J = C/output + λ̄ (MODEL.md §4) from the measured "
         "population and deliveries; \"whole run\" and \"last half\" are J of the seeds pooled (mean output, mean λ̄) "
         "over [0, T] and [T/2, T]; \"per seed\" is the mean ± sd of each seed's J over [T/2, T]. Populations are "
         "robots inside D (mean ± sd over seeds); a run whose swarm emptied counts as empty until T. \"predicted "
         "(chain)\" is the population chain's mean over [T/2, T] (retreat::model::expected_population: each robot's "
-        "chance averaged over a Poisson window count at the model's encounter rate; — for a rule with memory).\n\n" + markdown);
+        "chance averaged over a Poisson window count at the model's encounter rate; — for a rule with memory); \"by "
+        "robot\" is the same chain run robot by robot (experiment::robot_by_robot_chain: Poisson onsets at the "
+        "model's rate into each robot's own window and rule, " + std::to_string(by_robot_runs) + " runs).\n\n" + markdown);
 }
 
 /// report.html.
@@ -165,7 +173,8 @@ void write_page(const std::string& out, const SeedRange& seeds, const std::vecto
                 const Tables& t) {
   nlohmann::json table = {{"title", "Controllers on the same seeds"},
                           {"columns", {"scenario", "controller", "J whole run", "J last half", "J last half per seed",
-                                       "population last half", "predicted (chain)", "final population",
+                                       "population last half", "predicted (chain)", "predicted (by robot)",
+                                       "final population",
                                        "final min–max", "optimum",
                                        "robots that left"}},
                           {"rows", t.rows}};
@@ -190,10 +199,11 @@ void write_page(const std::string& out, const SeedRange& seeds, const std::vecto
 int run_controllers(const ControllersOptions& o) {
   const auto cases = queue_cases(o.common);
   const SeedRange seeds = o.seeds.value_or(o.common.quick ? SeedRange{1, 3} : SeedRange{1, 100});
-  const auto controllers = agent::controller_names();
+  const auto controllers = compared_controllers(o.common);
   make_run_dir(o.common.out_dir);
   const std::string out = o.common.out_dir;
   Tables t(out);
+  if (o.common.quick) t.by_robot_runs = 20;
   for (const auto& c : cases) {
     const auto s = scenario::load(c.file);
     const auto ensembles = run_case(o, c, seeds, controllers, s.model.C);
@@ -204,7 +214,7 @@ int run_controllers(const ControllersOptions& o) {
   t.results_csv.close();
   t.population.close();
   write_json(out + "/results.json", t.results);
-  write_markdown(out, seeds, t.markdown);
+  write_markdown(out, seeds, t.by_robot_runs, t.markdown);
   write_page(out, seeds, controllers, t);
   std::fprintf(stderr, "retreat-experiment: controllers: %s/results.md, %s/report.html\n", out.c_str(), out.c_str());
   return 0;

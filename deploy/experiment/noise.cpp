@@ -1,11 +1,11 @@
-// `retreat-experiment noise`: how each registered rule degrades when the robots' proximity
-// sensors miss onsets or report false ones (arena.missed_onsets, arena.false_onsets), on the
-// finite queue (robotarium-2019.yaml) and the endless queue (steady-influx.yaml), kinetic world
-// (the noise is the sensor's, not the world's; the kinetic world makes the 76 ensembles
-// affordable). Beside every rule, the two rules that can correct for a known sensor
-// (confident-proportional, influx-matching) run once more told the true rates
-// (agent.missed_onsets, agent.false_onsets). Per ensemble: the population over the last half
-// (mean ± sd over seeds) and J over the last half, pooled.
+// `retreat-experiment noise`: how each registered rule (or `paper` and the ones --controllers
+// names) degrades when the robots' proximity sensors miss onsets or report false ones
+// (arena.missed_onsets, arena.false_onsets), on the finite queue (robotarium-2019.yaml) and the
+// endless queue (steady-influx.yaml), kinetic world (the noise is the sensor's, not the world's;
+// the kinetic world makes the 94 ensembles affordable). Beside every rule, the three rules that
+// can correct for a known sensor (confident-proportional, influx-matching, adaptive-proportional)
+// run once more told the true rates (agent.missed_onsets, agent.false_onsets). Per ensemble: the
+// population over the last half (mean ± sd over seeds) and J over the last half, pooled.
 // Writes:
 //   runs/<scenario>/<noise>/<rule>/          the launcher's run directories, each seed's
 //                                            summary.json (telemetry.csv is removed once read:
@@ -18,7 +18,6 @@
 
 #include "ensemble.hpp"
 #include "page.hpp"
-#include "retreat/agent/controller_registry.hpp"
 #include "retreat/experiment/subcommands.hpp"
 #include "retreat/report/figures.hpp"
 #include "retreat/scenario/scenario.hpp"
@@ -49,8 +48,10 @@ const std::vector<Noise>& noises() {
 }
 
 /// The rules that correct their estimate for a known sensor (their agent.missed_onsets and
-/// agent.false_onsets are read by confident_partial_density).
-bool corrects(const std::string& rule) { return rule == "confident-proportional" || rule == "influx-matching"; }
+/// agent.false_onsets are read by confident_density).
+bool corrects(const std::string& rule) {
+  return rule == "confident-proportional" || rule == "influx-matching" || rule == "adaptive-proportional";
+}
 
 struct Row {
   std::string scenario, noise, rule;
@@ -71,7 +72,7 @@ void drop_telemetry(const Ensemble& e) {
 int run_noise(const NoiseOptions& o) {
   const auto cases = queue_cases(o.common);
   const SeedRange seeds = o.seeds.value_or(o.common.quick ? SeedRange{1, 2} : SeedRange{1, 100});
-  const auto rules = agent::controller_names();
+  const auto rules = compared_controllers(o.common);
   make_run_dir(o.common.out_dir);
   const std::string out = o.common.out_dir;
 

@@ -1,12 +1,16 @@
-#include "prediction.hpp"
+#include "retreat/experiment/prediction.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <memory>
+#include <stdexcept>
 #include <string_view>
 
 #include "retreat/agent/controller_registry.hpp"
 #include "retreat/agent/onset_window.hpp"
+#include "retreat/core/rng.hpp"
+#include "retreat/core/seed.hpp"
 #include "retreat/model/encounter.hpp"
 #include "retreat/model/estimation.hpp"
 #include "retreat/model/population.hpp"
@@ -25,7 +29,84 @@ double area_of(const physics::WorldParams& a) {
                                                   : physics::Domain::rectangle(a.width, a.height).area();
 }
 
+/// Arrivals of the chain: the arena's schedule (see predicted_population).
+struct Arrivals {
+  std::vector<double> times;  ///< a finite queue's robots_waiting robots [s]
+  double rate = 0.0;          ///< an endless queue's Poisson arrivals [robots/s]
+  std::uint32_t max_robots = 64;
+};
+
+Arrivals arrivals_of(const scenario::Scenario& s, double area) {
+  Arrivals a;
+  const double per_second = s.arena.lambda_in * area;
+  if (s.arena.queue == physics::QueueKind::finite) {
+    for (std::uint32_t k = 1; k <= s.arena.robots_waiting && per_second > 0.0; ++k) {
+      a.times.push_back(static_cast<double>(k) / per_second);
+    }
+    a.max_robots = s.arena.robots_inside + s.arena.robots_waiting;
+  } else {
+    a.rate = per_second;
+  }
+  return a;
+}
+
+/// One robot of the chain's agent-level version: its own rule, window and entry step.
+struct ChainRobot {
+  std::unique_ptr<agent::Controller> rule;
+  agent::OnsetWindow window;
+  std::int64_t entry_step = 0;
+};
+
 }  // namespace
+
+std::vector<double> robot_by_robot_chain(const scenario::Scenario& s, const std::string& controller, double duration,
+                                         std::uint32_t runs) {
+  const double area = area_of(s.arena);
+  const double c = model::swept_rate(s.model);
+  const auto& agent = s.agent;
+  const Arrivals arrivals = arrivals_of(s, area);
+  if (runs == 0) throw std::invalid_argument("robot_by_robot_chain: runs must be >= 1");
+  const auto steps = static_cast<std::int64_t>(duration / agent.dt + 1e-9);
+  const double first_decision = agent::make_controller(controller)->first_decision_after(agent);
+  std::vector<double> sum(static_cast<std::size_t>(steps) + 1, 0.0);
+  for (std::uint32_t run = 0; run < runs; ++run) {
+    Rng rng(seed_for(s.seed, static_cast<std::int64_t>(run), Stream::world));
+    std::vector<ChainRobot> inside;
+    const auto enter = [&](std::int64_t step) {
+      if (inside.size() < arrivals.max_robots) {
+        inside.push_back(ChainRobot{agent::make_controller(controller), agent::OnsetWindow(agent.L), step});
+      }
+    };
+    for (std::uint32_t i = 0; i < s.arena.robots_inside; ++i) enter(0);
+    sum[0] += static_cast<double>(inside.size());
+    std::size_t next_arrival = 0;
+    for (std::int64_t k = 1; k <= steps; ++k) {
+      const double t = static_cast<double>(k) * agent.dt;
+      while (next_arrival < arrivals.times.size() && arrivals.times[next_arrival] <= t) {
+        enter(k);
+        ++next_arrival;
+      }
+      for (std::uint64_t n = rng.poisson(arrivals.rate * agent.dt); n > 0; --n) enter(k);
+      // Each robot's onsets this step: the model's encounter rate of the other N − 1 robots.
+      const double onset_mean = c * static_cast<double>(inside.size() - std::min<std::size_t>(inside.size(), 1)) /
+                                area * agent.dt;
+      for (auto& robot : inside) robot.window.add(t, rng.poisson(onset_mean));
+      std::erase_if(inside, [&](ChainRobot& robot) {
+        const std::int64_t own = k - robot.entry_step;
+        const double time_inside = static_cast<double>(own) * agent.dt;
+        if (own < 1 || time_inside < first_decision - 1e-9 * agent.dt) return false;
+        const std::uint64_t y = robot.window.count_at(t);
+        const agent::ControllerInput input{t,        time_inside, y,     agent.L,     agent.dt,
+                                           model::mle_density(y, s.model.delta, s.model.v, agent.L),
+                                           s.model,  agent,       robot.window};
+        return rng.uniform() < std::clamp(robot.rule->retreat_probability(input), 0.0, 1.0);
+      });
+      sum[static_cast<std::size_t>(k)] += static_cast<double>(inside.size());
+    }
+  }
+  for (auto& v : sum) v /= static_cast<double>(runs);
+  return sum;
+}
 
 std::optional<std::vector<double>> predicted_population(const scenario::Scenario& s, const std::string& controller,
                                                         double duration) {
@@ -43,16 +124,10 @@ std::optional<std::vector<double>> predicted_population(const scenario::Scenario
   chain.dt = agent.dt;
   chain.first_decision = rule->first_decision_after(agent);
   chain.initial = s.arena.robots_inside;
-  const double arrivals_per_second = s.arena.lambda_in * area;
-  if (s.arena.queue == physics::QueueKind::finite) {
-    for (std::uint32_t k = 1; k <= s.arena.robots_waiting && arrivals_per_second > 0.0; ++k) {
-      chain.arrival_times.push_back(static_cast<double>(k) / arrivals_per_second);
-    }
-    chain.max_robots = s.arena.robots_inside + s.arena.robots_waiting;
-  } else {
-    chain.arrival_rate = arrivals_per_second;
-    chain.max_robots = 64;
-  }
+  const Arrivals arrivals = arrivals_of(s, area);
+  chain.arrival_times = arrivals.times;
+  chain.arrival_rate = arrivals.rate;
+  chain.max_robots = arrivals.max_robots;
   chain.leave_per_step.assign(chain.max_robots + 1, 0.0);
   for (std::uint32_t n = 1; n <= chain.max_robots; ++n) {
     const auto weights = model::poisson_weights(c * static_cast<double>(n - 1) / area * agent.L);

@@ -1,6 +1,7 @@
-// `retreat-experiment sweep`: every registered rule on a grid of 18 scenarios around the two
-// shipped ones (robotarium-2019.yaml, finite queue; steady-influx.yaml, endless queue): shape,
-// |D| from 2 to 20 m², L, λ_in, K_p, a start below the optimum, both queues and both worlds.
+// `retreat-experiment sweep`: every registered rule (or `paper` and the ones --controllers names)
+// on a grid of 18 scenarios around the two shipped ones (robotarium-2019.yaml, finite queue;
+// steady-influx.yaml, endless queue): shape, |D| from 2 to 20 m², L, λ_in, K_p, a start below
+// the optimum, both queues and both worlds.
 // Per cell and rule, over the last half of the run: the population's mean over seeds against
 // the optimum λ*·|D| as |mean − N*|/N*, and J (pooled over seeds) relative to `paper`'s.
 // Writes:
@@ -14,7 +15,6 @@
 
 #include "ensemble.hpp"
 #include "page.hpp"
-#include "retreat/agent/controller_registry.hpp"
 #include "retreat/experiment/subcommands.hpp"
 #include "retreat/report/figures.hpp"
 #include "retreat/scenario/scenario.hpp"
@@ -82,7 +82,7 @@ struct Result {
 
 int run_sweep(const SweepOptions& o) {
   const SeedRange seeds = o.seeds.value_or(o.common.quick ? SeedRange{1, 2} : SeedRange{1, 100});
-  const auto rules = agent::controller_names();
+  const auto rules = compared_controllers(o.common);
   make_run_dir(o.common.out_dir);
   const std::string out = o.common.out_dir;
   const auto queues = queue_cases(o.common);  // the finite queue, then the endless one

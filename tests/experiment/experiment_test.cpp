@@ -238,19 +238,20 @@ TEST(Experiment, ControllersQuickRunComparesEveryRegisteredControllerOnBothQueue
   const auto results = read_csv(dir + "/out/results.csv");
   expect_columns(results, {"scenario", "controller", "seeds", "duration", "J_whole_pooled", "J_last_half_pooled",
                            "J_last_half_mean", "J_last_half_sd", "mean_population_last_half",
-                           "predicted_population_last_half", "final_mean", "final_sd", "final_min", "final_max",
-                           "optimum", "departed_mean", "departed_min", "departed_max", "deliveries_mean",
-                           "lost_total"});
+                           "predicted_population_last_half", "predicted_by_robot_population_last_half",
+                           "final_mean", "final_sd", "final_min", "final_max", "optimum", "departed_mean",
+                           "departed_min", "departed_max", "deliveries_mean", "lost_total"});
   ASSERT_EQ(results.rows.size(), 2 * names.size());
   std::set<std::string> seen;
   for (std::size_t i = 0; i < results.rows.size(); ++i) {
     seen.insert(results.rows[i][results.column("scenario")] + "/" + results.rows[i][results.column("controller")]);
     EXPECT_EQ(results.number(i, "seeds"), 2.0);
     EXPECT_GT(results.number(i, "J_whole_pooled"), 0.0);
-    // The chain predicts the rules that depend on their window count alone, not influx-aware's.
+    // The chain predicts the rules that depend on their window count alone, not those with
+    // memory; the robot-by-robot chain predicts every rule.
     const auto& rule = results.rows[i][results.column("controller")];
     const auto& predicted = results.rows[i][results.column("predicted_population_last_half")];
-    if (rule.find("influx-aware") != std::string::npos) {
+    if (rule.find("influx-aware") != std::string::npos || rule == "adaptive-proportional") {
       EXPECT_TRUE(predicted.empty()) << rule;
     } else {
       EXPECT_FALSE(predicted.empty()) << rule;
@@ -258,6 +259,9 @@ TEST(Experiment, ControllersQuickRunComparesEveryRegisteredControllerOnBothQueue
       EXPECT_GE(p, 0.0) << rule;
       EXPECT_LE(p, 64.0) << rule;
     }
+    const double by_robot = results.number(i, "predicted_by_robot_population_last_half");
+    EXPECT_GE(by_robot, 0.0) << rule;
+    EXPECT_LE(by_robot, 64.0) << rule;
   }
   for (const auto& n : names) {
     EXPECT_TRUE(seen.count("finite/" + n) == 1 && seen.count("endless/" + n) == 1) << n;
@@ -278,11 +282,23 @@ TEST(Experiment, ControllersQuickRunComparesEveryRegisteredControllerOnBothQueue
   EXPECT_EQ(seeds.rows.size(), 2 * 2 * names.size());
   const auto md = retreat::testing::read_file(dir + "/out/results.md");
   EXPECT_NE(md.find("| scenario | controller | J whole run |"), std::string::npos);
-  EXPECT_NE(md.find("| predicted (chain) |"), std::string::npos);
+  EXPECT_NE(md.find("| predicted (chain) | predicted (by robot) |"), std::string::npos);
   EXPECT_EQ(lines(md), 2 + 2 + 2 * names.size());  // note, blank line, header, rule, rows
   const auto page = figures_of(dir + "/out/report.html");
   EXPECT_EQ(figure(page, "population-finite")["series"].size(), names.size() + 1);
   EXPECT_EQ(figure(page, "population-endless")["series"].size(), names.size() + 1);
+}
+
+TEST(Experiment, ControllersRunsPaperAndTheRulesAskedFor) {
+  const auto dir = fresh_dir("controllers-asked");
+  const auto [code, output] = run(
+      dir, {"controllers", "--quick", "--seeds", "1:1", "--controllers", "adaptive-proportional", "--out", dir + "/out"});
+  ASSERT_EQ(code, 0) << output;
+  const auto results = read_csv(dir + "/out/results.csv");
+  ASSERT_EQ(results.rows.size(), 4u);  // paper (the reference) and the rule asked for, per queue
+  for (std::size_t i = 0; i < results.rows.size(); ++i) {
+    EXPECT_EQ(results.rows[i][results.column("controller")], i % 2 == 0 ? "paper" : "adaptive-proportional") << i;
+  }
 }
 
 TEST(Experiment, NoiseQuickRunGivesEveryRuleOnEverySensorAndTheCorrectedRules) {
@@ -293,8 +309,8 @@ TEST(Experiment, NoiseQuickRunGivesEveryRuleOnEverySensorAndTheCorrectedRules) {
   const auto results = read_csv(dir + "/out/results.csv");
   expect_columns(results, {"scenario", "noise", "missed_onsets", "false_onsets", "controller", "corrected", "seeds",
                            "mean_population_last_half", "sd_population_last_half", "J_last_half_pooled", "optimum"});
-  // 5 sensors × every rule, and the 2 correcting rules again on the 4 imperfect sensors, per queue.
-  ASSERT_EQ(results.rows.size(), 2 * (5 * names.size() + 4 * 2));
+  // 5 sensors × every rule, and the 3 correcting rules again on the 4 imperfect sensors, per queue.
+  ASSERT_EQ(results.rows.size(), 2 * (5 * names.size() + 4 * 3));
   expect_finite(results, {"missed_onsets", "false_onsets", "seeds", "mean_population_last_half", "optimum"},
                 "results.csv");
   std::size_t corrected = 0;
@@ -304,7 +320,7 @@ TEST(Experiment, NoiseQuickRunGivesEveryRuleOnEverySensorAndTheCorrectedRules) {
       EXPECT_TRUE(results.number(i, "missed_onsets") > 0.0 || results.number(i, "false_onsets") > 0.0) << i;
     }
   }
-  EXPECT_EQ(corrected, 16u);
+  EXPECT_EQ(corrected, 24u);
   // The sensors differ: a rule's population is not the same under every one of them.
   std::set<std::string> paper_finite;
   for (std::size_t i = 0; i < results.rows.size(); ++i) {
@@ -316,8 +332,8 @@ TEST(Experiment, NoiseQuickRunGivesEveryRuleOnEverySensorAndTheCorrectedRules) {
   const auto page = figures_of(dir + "/out/report.html");
   for (const char* id : {"population-finite-missed", "population-finite-false", "population-endless-missed",
                          "population-endless-false"}) {
-    // every rule, the 2 corrected ones, the optimum
-    EXPECT_EQ(figure(page, id)["series"].size(), names.size() + 2 + 1) << id;
+    // every rule, the 3 corrected ones, the optimum
+    EXPECT_EQ(figure(page, id)["series"].size(), names.size() + 3 + 1) << id;
   }
   // Each seed's telemetry is dropped once read; its summary stays.
   const auto seed_dir = dir + "/out/runs/finite/perfect/paper/seed_1";
@@ -392,7 +408,10 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"seeds_not_a_range", {"robotarium", "--seeds", "abc", "--out", "/nonexistent/out"}, "abc"},
         BadInput{"missing_scenarios", {"encounters", "--scenarios", "/nonexistent/scenarios"}, "/nonexistent/scenarios"},
         BadInput{"bad_lambdas", {"throughput", "--lambdas", "0.5,x", "--out", "/nonexistent/out"}, "0.5,x"},
-        BadInput{"bad_vendor", {"robotarium", "--dds", "zenoh", "--out", "/nonexistent/out"}, "zenoh"}),
+        BadInput{"bad_vendor", {"robotarium", "--dds", "zenoh", "--out", "/nonexistent/out"}, "zenoh"},
+        BadInput{"unknown_controller", {"sweep", "--controllers", "paper,fly", "--out", "/nonexistent/out"}, "fly"},
+        BadInput{"controller_twice", {"noise", "--controllers", "confident,confident", "--out", "/nonexistent/out"},
+                 "confident,confident"}),
     [](const auto& param_info) { return param_info.param.name; });
 
 TEST(Experiment, RefusesAnOutDirectoryThatHoldsSomething) {

@@ -87,7 +87,7 @@ TEST_P(GoldenTrajectory, ThePortabilityChecksJsonScenarioIsTheYamlOneResolved) {
 INSTANTIATE_TEST_SUITE_P(Case, GoldenTrajectory,
                          ::testing::Values("paper-physical", "paper-kinetic", "confident", "influx-aware",
                                            "confident-influx-aware", "confident-proportional",
-                                           "influx-matching"),
+                                           "influx-matching", "adaptive-proportional"),
                          [](const auto& test) {
                            std::string name = test.param;
                            for (auto& ch : name) ch = ch == '-' ? '_' : ch;

@@ -3,6 +3,7 @@
 #include <array>
 #include <stdexcept>
 
+#include "retreat/agent/adaptive_proportional_controller.hpp"
 #include "retreat/agent/confident_controller.hpp"
 #include "retreat/agent/early_confident_controllers.hpp"
 #include "retreat/agent/influx_aware_controller.hpp"
@@ -35,6 +36,8 @@ constexpr std::array registry{
     Registration{ConfidentProportionalController::registered_name,
                  &make<ConfidentProportionalController>},
     Registration{InfluxMatchingController::registered_name, &make<InfluxMatchingController>},
+    Registration{AdaptiveProportionalController::registered_name,
+                 &make<AdaptiveProportionalController>},
 };
 
 const Registration* find(std::string_view name) {

@@ -15,19 +15,22 @@ namespace retreat::agent {
 double counted_span(const ControllerInput& input) { return std::min(input.time_inside, input.L); }
 
 double confident_partial_density(const ControllerInput& input, double z) {
-  const double w = counted_span(input);
+  return confident_density(input.onsets_in_window, counted_span(input), input, z);
+}
+
+double confident_density(std::uint64_t onsets, double span, const ControllerInput& input, double z) {
   const double m = input.agent.missed_onsets;
   const double f = input.agent.false_onsets;
   if (m == 0.0 && f == 0.0) {
-    return lower_confidence_density(input.onsets_in_window, input.model, w, z);
+    return lower_confidence_density(onsets, input.model, span, z);
   }
   if (!std::isfinite(z) || z < 0.0) {
     throw std::invalid_argument("confidence z = " + std::to_string(z) + ": must be finite and >= 0");
   }
-  // The lowered count, less the spurious onsets expected over w, over the kept fraction.
-  const double y = static_cast<double>(input.onsets_in_window);
+  // The lowered count, less the spurious onsets expected over the span, over the kept fraction.
+  const double y = static_cast<double>(onsets);
   const double low_count = std::max(0.0, y - z * std::sqrt(y));
-  return std::max(0.0, low_count - f * w) / ((1.0 - m) * model::swept_rate(input.model) * w);
+  return std::max(0.0, low_count - f * span) / ((1.0 - m) * model::swept_rate(input.model) * span);
 }
 
 ConfidentProportionalController::ConfidentProportionalController(double z) : z_(z) {

@@ -46,7 +46,7 @@ TEST(AgentParams, RejectsAnUnknownControllerListingTheValidNames) {
   p.controller = "foo";
   EXPECT_EQ(validation_message(p), "agent.controller = 'foo': must be one of paper, confident, "
                                   "influx-aware, confident-influx-aware, confident-proportional, "
-                                  "influx-matching");
+                                  "influx-matching, adaptive-proportional");
 }
 
 TEST(AgentParams, NamesTheFieldAndTheValueOfEveryOutOfRangeNumber) {

@@ -67,19 +67,21 @@ struct Step {
 
 TEST(Controllers, AreAllRegisteredAfterThePaperController) {
   const auto names = controller_names();
-  ASSERT_EQ(names.size(), 6U);
+  ASSERT_EQ(names.size(), 7U);
   EXPECT_EQ(names[0], "paper");
   EXPECT_EQ(names[1], "confident");
   EXPECT_EQ(names[2], "influx-aware");
   EXPECT_EQ(names[3], "confident-influx-aware");
   EXPECT_EQ(names[4], "confident-proportional");
   EXPECT_EQ(names[5], "influx-matching");
+  EXPECT_EQ(names[6], "adaptive-proportional");
 }
 
 TEST(Controllers, ThoseBuiltOnThePapersLoopWaitOneWindowAndTheEarlyOnesDecideFromEntry) {
   const AgentParams agent;
   for (const auto& name : controller_names()) {
-    const bool early = name == "confident-proportional" || name == "influx-matching";
+    const bool early =
+        name == "confident-proportional" || name == "influx-matching" || name == "adaptive-proportional";
     EXPECT_EQ(make_controller(name)->first_decision_after(agent), early ? 0.0 : agent.L) << name;
   }
 }

@@ -14,7 +14,8 @@ struct AgentParams {
   double lambda_in = 0.02;  ///< λ_in: influx of robots [robots/(m²·s)]
   std::string controller = "paper";  ///< registered controller name (controller_names())
   /// The robot's sensor as the robot knows it, for the rules that correct their estimate for it
-  /// (confident-proportional, influx-matching; `paper` reads its count as written):
+  /// (confident-proportional, adaptive-proportional, influx-matching; `paper` reads its count as
+  /// written):
   double missed_onsets = 0.0;  ///< chance that the sensor misses an onset [-], in [0, 1)
   double false_onsets = 0.0;   ///< rate of spurious onsets it reports [1/s], >= 0
 

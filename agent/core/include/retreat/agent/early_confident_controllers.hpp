@@ -30,6 +30,11 @@ double counted_span(const ControllerInput& input);
 /// @throws std::invalid_argument if @p z is not finite and >= 0.
 double confident_partial_density(const ControllerInput& input, double z);
 
+/// confident_partial_density for @p onsets counted over any @p span [s] (> 0) that ends at the
+/// step: the same lowering and the same sensor correction, from @p input's model and agent.
+/// @throws std::invalid_argument if @p z is not finite and >= 0.
+double confident_density(std::uint64_t onsets, double span, const ControllerInput& input, double z);
+
 /// `confident-proportional`: the paper's proportional term alone, on the confident estimate,
 /// from the first step after entry:
 ///

@@ -38,7 +38,17 @@ struct Common {
   std::string launcher;       ///< retreat-launch (robotarium, controllers)
   std::optional<unsigned> jobs;  ///< in-process seeds run at once (retreat-launch --jobs); empty:
                                  ///< the launcher's default, the core count
+  std::vector<std::string> controllers;  ///< --controllers (controllers, noise, sweep): the rules
+                                         ///< asked for, registered names; empty: every one
 };
+
+/// The rules a comparison runs: `paper` first (every comparison is against it), then the ones
+/// @p common asks for in the registry's order, or every registered rule when it asks for none.
+std::vector<std::string> compared_controllers(const Common& common);
+
+/// Parses --controllers: registered names separated by commas, each at most once.
+/// @throws UsageError naming the value and the registered names.
+std::vector<std::string> parse_controllers(const std::string& text);
 
 /// `name` (e.g. "robotarium-2019.yaml") in the scenarios directory; throws UsageError when it
 /// is not there.

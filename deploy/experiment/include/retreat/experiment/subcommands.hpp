@@ -45,7 +45,8 @@ struct RobotariumOptions {
 };
 int run_robotarium(const RobotariumOptions& options);
 
-/// `controllers`: every registered controller against `paper` on the same seeds and scenarios.
+/// `controllers`: every registered controller (Common::controllers: or those asked for) against
+/// `paper` on the same seeds and scenarios.
 struct ControllersOptions {
   Common common;
   std::optional<SeedRange> seeds;  ///< default 1:100 (quick 1:3, and the endless queue 1,200 s)
