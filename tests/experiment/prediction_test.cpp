@@ -1,12 +1,13 @@
 // The controllers' predictions (deploy/experiment/prediction.cpp): the exact population chain
 // and the same chain run robot by robot, against the closed form they share.
 
+#include "retreat/experiment/prediction.hpp"
+
 #include <gtest/gtest.h>
 
 #include <stdexcept>
 #include <string>
 
-#include "retreat/experiment/prediction.hpp"
 #include "retreat/model/optimum.hpp"
 #include "retreat/model/population.hpp"
 #include "retreat/scenario/scenario.hpp"
@@ -22,7 +23,8 @@ const std::string scenarios = RETREAT_SCENARIOS;
 // counts: with Poisson arrivals at λ_in|D| the robots inside are an M/M/∞ queue of mean
 // λ_in|D|/μ = λ*|D| = N* (the initial robots' excess decays as e^(−μt), e^(−8) by t = 600 s).
 retreat::scenario::Scenario steady_influx_matching() {
-  auto s = retreat::scenario::load(scenarios + "/steady-influx.yaml", {"agent.controller=influx-matching"});
+  auto s = retreat::scenario::load(scenarios + "/steady-influx.yaml",
+                                   {"agent.controller=influx-matching"});
   s.agent.K_p = 1e-12;
   return s;
 }
@@ -34,8 +36,9 @@ double last_half(const std::vector<double>& series, double dt, double duration) 
 TEST(Prediction, BothChainsHoldAnEndlessQueueAtTheMOverMOverInfinityMean) {
   const auto s = steady_influx_matching();
   const double duration = 1200.0;
-  const double area = 3.14159265358979323846 * s.arena.semi_axis_x * s.arena.semi_axis_y;  // an ellipse
-  const double optimum = retreat::model::lambda_star(s.model) * area;                      // 4.55
+  const double area =
+      3.14159265358979323846 * s.arena.semi_axis_x * s.arena.semi_axis_y;  // an ellipse
+  const double optimum = retreat::model::lambda_star(s.model) * area;      // 4.55
   const auto exact = predicted_population(s, "influx-matching", duration);
   ASSERT_TRUE(exact.has_value());
   // The chain records N after the step's departures: a robot that arrived in the step may
@@ -58,10 +61,12 @@ TEST(Prediction, TheRobotByRobotChainIsTheSameForTheSameScenario) {
 
 TEST(Prediction, OnlyCountOnlyRulesHaveAnExactChain) {
   const auto s = retreat::scenario::load(scenarios + "/robotarium-2019.yaml", {});
-  for (const std::string rule : {"paper", "confident", "confident-proportional", "influx-matching"}) {
+  for (const std::string rule :
+       {"paper", "confident", "confident-proportional", "influx-matching"}) {
     EXPECT_TRUE(predicted_population(s, rule, 60.0).has_value()) << rule;
   }
-  for (const std::string rule : {"influx-aware", "confident-influx-aware", "adaptive-proportional"}) {
+  for (const std::string rule :
+       {"influx-aware", "confident-influx-aware", "adaptive-proportional"}) {
     EXPECT_FALSE(predicted_population(s, rule, 60.0).has_value()) << rule;
   }
 }

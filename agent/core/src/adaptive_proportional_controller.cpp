@@ -14,7 +14,8 @@ namespace {
 
 void check_z(double z) {
   if (!std::isfinite(z) || z < 0.0) {
-    throw std::invalid_argument("confidence z = " + std::to_string(z) + ": must be finite and >= 0");
+    throw std::invalid_argument("confidence z = " + std::to_string(z) +
+                                ": must be finite and >= 0");
   }
 }
 
@@ -25,8 +26,9 @@ AdaptiveSpan::AdaptiveSpan(double z) : z_(z) { check_z(z); }
 void AdaptiveSpan::take_in(const ControllerInput& input) {
   const auto& held = input.window.entries();
   // Onsets at times before last_taken_ were taken in at an earlier step: start at it.
-  auto onset = taken_any_ ? std::lower_bound(held.begin(), held.end(), last_taken_,
-                                             [](const OnsetWindow::Entry& e, double t) { return e.time < t; })
+  auto onset = taken_any_ ? std::lower_bound(
+                                held.begin(), held.end(), last_taken_,
+                                [](const OnsetWindow::Entry& e, double t) { return e.time < t; })
                           : held.begin();
   for (; onset != held.end() && onset->time <= input.time; ++onset) {  // later ones: a later step's
     if (taken_any_ && onset->time == last_taken_) {
@@ -85,7 +87,8 @@ double AdaptiveProportionalController::retreat_probability(const ControllerInput
   const double span = span_.update(input);
   if (!(span > 0.0)) return 0.0;  // no time counted yet
   const double lambda_low = confident_density(span_.onsets(), span, input, z_);
-  const double rate = model::epsilon(lambda_low, model::lambda_star(input.model), 0.0, input.agent.K_p);
+  const double rate =
+      model::epsilon(lambda_low, model::lambda_star(input.model), 0.0, input.agent.K_p);
   return rate * input.dt;
 }
 

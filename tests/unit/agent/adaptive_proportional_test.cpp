@@ -33,8 +33,9 @@ struct Robot {
   ControllerInput input(double t) {
     while (added < onsets.size() && onsets[added] <= t) window.add(onsets[added++]);
     const std::uint64_t y = window.count_at(t);
-    return ControllerInput{t, t, y, agent.L, agent.dt, model::mle_density(y, model.delta, model.v, agent.L),
-                           model, agent, window};
+    return ControllerInput{t,       t,        y,
+                           agent.L, agent.dt, model::mle_density(y, model.delta, model.v, agent.L),
+                           model,   agent,    window};
   }
   // Every step k·dt in (0, t1]; the last step's probability.
   double run(Controller& controller, double t1) {

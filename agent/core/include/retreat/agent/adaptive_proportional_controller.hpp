@@ -56,9 +56,9 @@ class AdaptiveSpan {
   double z_;
   bool started_ = false;
   double start_ = 0.0;
-  std::deque<Entry> entries_;      ///< onsets in [start_, last update], oldest first
-  std::uint64_t total_ = 0;        ///< onsets taken in since entry
-  std::uint64_t forgotten_ = 0;    ///< of which before start_
+  std::deque<Entry> entries_;    ///< onsets in [start_, last update], oldest first
+  std::uint64_t total_ = 0;      ///< onsets taken in since entry
+  std::uint64_t forgotten_ = 0;  ///< of which before start_
   bool taken_any_ = false;
   double last_taken_ = 0.0;          ///< time of the latest onsets taken in [s]
   std::uint64_t at_last_taken_ = 0;  ///< OnsetWindow's count at last_taken_, when taken in
