@@ -15,6 +15,8 @@ packages=(
   libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libcpp-httplib-dev libssl-dev
   # the launcher reads DDS profile files (XML) for its capacity check
   libtinyxml2-dev
+  # recordings (MCAP): zstd-compressed chunks, zlib's CRC-32
+  libzstd-dev zlib1g-dev
   # tests and benchmarks; the fuzzers (tests/fuzz) need Clang and its libFuzzer runtime
   libgtest-dev libgmock-dev googletest libbenchmark-dev clang libclang-rt-14-dev
   # the portability check of the test command: the pure core built with Clang and libc++
