@@ -222,7 +222,7 @@ struct SeedsLine {
   const char* seeds_help;
   Options o;
   std::string seeds;
-  std::string controllers;
+  std::vector<std::string> controllers;
   CLI::App* sub = nullptr;
 
   void add(CLI::App& app) {
@@ -232,12 +232,14 @@ struct SeedsLine {
     sub->add_option("--seeds", seeds, seeds_help);
     sub->add_option("--controllers", controllers,
                     "registered rules to compare, comma-separated (default: every one; paper always runs, "
-                    "as the reference)");
+                    "as the reference)")
+        ->delimiter(',');
   }
   Options finish() {
     finish_common(o.common, name);
     if (!seeds.empty()) o.seeds = parse_seed_range(seeds, "--seeds");
-    if (!controllers.empty()) o.common.controllers = parse_controllers(controllers);
+    check_controllers(controllers);
+    o.common.controllers = controllers;
     require_launcher(o.common);
     return o;
   }

@@ -67,25 +67,20 @@ std::vector<std::string> compared_controllers(const Common& common) {
   return rules;
 }
 
-std::vector<std::string> parse_controllers(const std::string& text) {
+void check_controllers(const std::vector<std::string>& names) {
+  std::string text;  // as given, for the message
+  for (const auto& name : names) text += (text.empty() ? "" : ",") + name;
   std::string registered;
   for (const auto& name : agent::controller_names()) registered += (registered.empty() ? "" : ", ") + name;
-  std::vector<std::string> names;
-  std::size_t from = 0;
-  while (from <= text.size()) {
-    const std::size_t comma = std::min(text.find(',', from), text.size());
-    const std::string name = text.substr(from, comma - from);
-    if (!agent::is_controller_name(name)) {
-      throw UsageError("--controllers '" + text + "': '" + name + "' is not a registered controller (" + registered +
+  for (auto it = names.begin(); it != names.end(); ++it) {
+    if (!agent::is_controller_name(*it)) {
+      throw UsageError("--controllers '" + text + "': '" + *it + "' is not a registered controller (" + registered +
                        ")");
     }
-    if (std::find(names.begin(), names.end(), name) != names.end()) {
-      throw UsageError("--controllers '" + text + "': '" + name + "' is named twice");
+    if (std::find(names.begin(), it, *it) != it) {
+      throw UsageError("--controllers '" + text + "': '" + *it + "' is named twice");
     }
-    names.push_back(name);
-    from = comma + 1;
   }
-  return names;
 }
 
 std::vector<QueueCase> queue_cases(const Common& common) {

@@ -88,8 +88,8 @@ std::vector<double> robot_by_robot_chain(const scenario::Scenario& s, const std:
       }
       for (std::uint64_t n = rng.poisson(arrivals.rate * agent.dt); n > 0; --n) enter(k);
       // Each robot's onsets this step: the model's encounter rate of the other N − 1 robots.
-      const double onset_mean = c * static_cast<double>(inside.size() - std::min<std::size_t>(inside.size(), 1)) /
-                                area * agent.dt;
+      const double others = inside.empty() ? 0.0 : static_cast<double>(inside.size() - 1);
+      const double onset_mean = c * others / area * agent.dt;
       for (auto& robot : inside) robot.window.add(t, rng.poisson(onset_mean));
       std::erase_if(inside, [&](ChainRobot& robot) {
         const std::int64_t own = k - robot.entry_step;

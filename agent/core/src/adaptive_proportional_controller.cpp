@@ -2,26 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
-#include <string>
 
 #include "retreat/agent/confident_controller.hpp"
 #include "retreat/model/control.hpp"
 #include "retreat/model/optimum.hpp"
 
 namespace retreat::agent {
-namespace {
 
-void check_z(double z) {
-  if (!std::isfinite(z) || z < 0.0) {
-    throw std::invalid_argument("confidence z = " + std::to_string(z) +
-                                ": must be finite and >= 0");
-  }
-}
-
-}  // namespace
-
-AdaptiveSpan::AdaptiveSpan(double z) : z_(z) { check_z(z); }
+AdaptiveSpan::AdaptiveSpan(double z) : z_(z) { check_confidence_z(z); }
 
 void AdaptiveSpan::take_in(const ControllerInput& input) {
   const auto& held = input.window.entries();

@@ -11,23 +11,19 @@
 
 namespace retreat::agent {
 
-namespace {
-
 /// One line for a bad z.
-void check_z(double z) {
+void check_confidence_z(double z) {
   if (!std::isfinite(z) || z < 0.0) {
     throw std::invalid_argument("confidence z = " + std::to_string(z) +
                                 ": must be finite and >= 0");
   }
 }
 
-}  // namespace
-
-ConfidentController::ConfidentController(double z) : z_(z) { check_z(z); }
+ConfidentController::ConfidentController(double z) : z_(z) { check_confidence_z(z); }
 
 double lower_confidence_density(std::uint64_t onsets, const model::ModelParams& model, double L,
                                 double z) {
-  check_z(z);
+  check_confidence_z(z);
   const double y = static_cast<double>(onsets);
   return std::max(0.0, y - z * std::sqrt(y)) / (model::swept_rate(model) * L);
 }

@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
-#include <string>
 
 #include "retreat/agent/confident_controller.hpp"
 #include "retreat/model/control.hpp"
@@ -24,9 +22,7 @@ double confident_density(std::uint64_t onsets, double span, const ControllerInpu
   if (m == 0.0 && f == 0.0) {
     return lower_confidence_density(onsets, input.model, span, z);
   }
-  if (!std::isfinite(z) || z < 0.0) {
-    throw std::invalid_argument("confidence z = " + std::to_string(z) + ": must be finite and >= 0");
-  }
+  check_confidence_z(z);
   // The lowered count, less the spurious onsets expected over the span, over the kept fraction.
   const double y = static_cast<double>(onsets);
   const double low_count = std::max(0.0, y - z * std::sqrt(y));
@@ -34,7 +30,7 @@ double confident_density(std::uint64_t onsets, double span, const ControllerInpu
 }
 
 ConfidentProportionalController::ConfidentProportionalController(double z) : z_(z) {
-  lower_confidence_density(0, model::ModelParams{}, 1.0, z);  // checks z
+  check_confidence_z(z);
 }
 
 double ConfidentProportionalController::retreat_probability(const ControllerInput& input) {

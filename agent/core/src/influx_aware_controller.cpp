@@ -11,7 +11,7 @@ namespace retreat::agent {
 
 InfluxAwareController::InfluxAwareController(double z, std::string_view name)
     : z_(z), name_(name) {
-  lower_confidence_density(0, model::ModelParams{}, 1.0, z);  // checks z
+  check_confidence_z(z);
 }
 
 double InfluxAwareController::retreat_probability(const ControllerInput& input) {

@@ -11,6 +11,10 @@
 
 namespace retreat::agent {
 
+/// Checks a confidence level: @p z standard deviations, finite and >= 0.
+/// @throws std::invalid_argument naming @p z otherwise.
+void check_confidence_z(double z);
+
 /// The density estimate lowered by @p z Poisson standard deviations of the window count:
 /// max(0, y − z·sqrt(y)) / (4δ(4/π)vL) [robots/m²], for y = @p onsets in a window of @p L [s].
 /// z = 0 gives the paper's MLE λ̂.

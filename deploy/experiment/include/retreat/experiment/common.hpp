@@ -46,9 +46,9 @@ struct Common {
 /// @p common asks for in the registry's order, or every registered rule when it asks for none.
 std::vector<std::string> compared_controllers(const Common& common);
 
-/// Parses --controllers: registered names separated by commas, each at most once.
+/// Checks --controllers (CLI11 splits it at commas): registered names, each at most once.
 /// @throws UsageError naming the value and the registered names.
-std::vector<std::string> parse_controllers(const std::string& text);
+void check_controllers(const std::vector<std::string>& names);
 
 /// `name` (e.g. "robotarium-2019.yaml") in the scenarios directory; throws UsageError when it
 /// is not there.
