@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <set>
+#include <thread>
 
 #include "retreat/agent/controller_registry.hpp"
 #include "retreat/core/seed.hpp"
@@ -18,6 +20,11 @@ namespace {
 constexpr std::chrono::milliseconds reader_check_period{1000};
 /// ... and at most every this many spins (one spin per frame or wait).
 constexpr std::uint64_t reader_check_spins = 16;
+
+/// The decisions' and plans' QoS: deeper with run.recorders (transport::QosIntent).
+transport::QosIntent answers_qos(const scenario::Scenario& scenario) {
+  return scenario.run.recorders > 0 ? transport::QosIntent::recorded_answers() : transport::QosIntent::answers();
+}
 
 Observation to_observation(const wire::ProximityFrame& f) {
   return {f.tick, f.time, static_cast<RobotPhase>(f.phase), f.in_contact, f.new_onsets, f.robot_id};
@@ -36,18 +43,27 @@ AgentNode::AgentNode(const scenario::Scenario& scenario, std::uint32_t robot_id,
       status_period_(scenario.run.status_period),
       agent_(robot_id, scenario.model, scenario.agent, make_controller(scenario.agent.controller),
              seed_for(scenario.seed, robot_id, Stream::agent_decision)),
-      frames_(transport.create_reader<wire::ProximityFrame>(
-          {wire::proximity_topic(scenario.dds.prefix, robot_id), transport::QosIntent::control()})),
+      frames_topic_{wire::proximity_topic(scenario.dds.prefix, robot_id), transport::QosIntent::control()},
+      recorders_(scenario.run.recorders),
+      recorders_deadline_(std::chrono::steady_clock::now() +
+                          std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                              std::chrono::duration<double>(scenario.run.startup_timeout))),
+      // Without recorders the frames reader comes first, as it always has; with them, once the
+      // recorders read our writers (open_frames).
+      frames_(recorders_ == 0 ? std::make_optional(transport.create_reader<wire::ProximityFrame>(frames_topic_))
+                              : std::nullopt),
       decisions_(transport.create_writer<wire::Decision>(
-          {wire::decision_topic(scenario.dds.prefix, robot_id), transport::QosIntent::answers()})),
+          {wire::decision_topic(scenario.dds.prefix, robot_id), answers_qos(scenario)})),
       clock_(scenario::frame_clock(scenario)),
       plan_horizon_(scenario.run.plan_horizon),
       statuses_(transport.create_writer<wire::AgentStatus>(
-          {wire::agent_status_topic(scenario.dds.prefix), transport::QosIntent::state()})) {
+          {wire::agent_status_topic(scenario.dds.prefix),
+           scenario.run.recorders > 0 ? transport::QosIntent::recorded_state() : transport::QosIntent::state()})) {
   if (scenario.run.plans) {
     plans_.emplace(transport.create_writer<wire::Decision>(
-        {wire::plan_topic(scenario.dds.prefix, robot_id), transport::QosIntent::answers()}));
+        {wire::plan_topic(scenario.dds.prefix, robot_id), answers_qos(scenario)}));
   }
+  open_frames();
   if (journal_path.empty()) return;
   journal_ = std::make_unique<FrameJournal>(journal_path, journal_header(scenario, robot_id), robot_id);
   for (const auto& f : journal_->recovered()) recover(f);
@@ -73,7 +89,7 @@ bool AgentNode::arena_seen() {
   const auto now = std::chrono::steady_clock::now();
   if (now < next_arena_check_) return false;
   next_arena_check_ = now + std::chrono::seconds(1);
-  arena_seen_ = counters_.frames_received > 0 || frames_.matched_count() > 0 || decisions_.matched_count() > 0;
+  arena_seen_ = counters_.frames_received > 0 || (frames_ && frames_->matched_count() > 0) || decisions_.matched_count() > 0;
   if (!arena_seen_) {
     const auto participants = transport_.participants();
     arena_seen_ = std::any_of(participants.begin(), participants.end(), [](const transport::ParticipantInfo& p) {
@@ -83,17 +99,43 @@ bool AgentNode::arena_seen() {
   return arena_seen_;
 }
 
+bool AgentNode::open_frames() {
+  if (frames_) return true;
+  // run.recorders: the frames reader opens once the recorders read every writer of ours, so that
+  // the arena, which waits for it before tick 0, starts only when nothing we write can be missed.
+  if (!recorders_matched(recorders_)) {
+    if (std::chrono::steady_clock::now() < recorders_deadline_) return false;
+    std::fprintf(stderr, "retreat-agent robot %u: run.recorders = %u not matched within "
+                 "run.startup_timeout; a recording may miss this robot's first samples\n",
+                 robot_id_, recorders_);
+  }
+  frames_.emplace(transport_.create_reader<wire::ProximityFrame>(frames_topic_));
+  return true;
+}
+
+bool AgentNode::recorders_matched(std::uint32_t wanted) const {
+  if (wanted == 0) return true;
+  const auto recorders = transport::participants_announcing(transport_, wire::recorder_user_data);
+  return recorders.size() >= wanted && transport::matched_with_all(decisions_.matched(), recorders) &&
+         transport::matched_with_all(statuses_.matched(), recorders) &&
+         (!plans_ || transport::matched_with_all(plans_->matched(), recorders));
+}
+
 void AgentNode::spin_once(std::chrono::nanoseconds timeout) {
   // One buffer per thread rather than one per agent: a swarm in one process spins every agent
   // on one thread, and one buffer in the cache beats a cold one per agent. handle() never spins.
   thread_local std::vector<wire::ProximityFrame> taken;
-  frames_.take(taken);
+  if (!open_frames()) {
+    std::this_thread::sleep_for(std::min<std::chrono::nanoseconds>(timeout, std::chrono::milliseconds(10)));
+    return;
+  }
+  frames_->take(taken);
   if (taken.empty()) {
     transport_.wait(timeout);  // our reader is the transport's only one
-    frames_.take(taken);
+    frames_->take(taken);
   }
   for (const auto& f : taken) handle(f);
-  counters_.frames_dropped = frames_.stats().dropped_total() + agent_.frames().dropped();
+  counters_.frames_dropped = frames_->stats().dropped_total() + agent_.frames().dropped();
   watch_decision_readers();
 }
 
@@ -104,8 +146,11 @@ void AgentNode::watch_decision_readers() {
   const auto now = std::chrono::steady_clock::now();
   if (now < next_reader_check_) return;
   next_reader_check_ = now + reader_check_period;
+  std::optional<std::set<std::string>> recorders;  // looked up once a new reader appears
   for (const auto& reader : decisions_.matched()) {
     if (!decision_readers_.insert(reader.participant_guid).second) continue;
+    if (!recorders) recorders = transport::participants_announcing(transport_, wire::recorder_user_data);
+    if (recorders->count(reader.participant_guid) > 0) continue;  // a recorder, not an arena
     ++counters_.arena_incarnations;
     if (counters_.arena_incarnations == 1) continue;
     // Nothing to undo: the tick order makes the new arena's first frame a duplicate or the next
@@ -199,7 +244,7 @@ void AgentNode::publish_status(std::int64_t tick, double time) {
   status.onsets_in_window = static_cast<std::uint32_t>(s.onsets_in_window);
   status.lambda_hat = s.lambda_hat;
   status.epsilon = std::isfinite(s.epsilon) && s.epsilon >= 0.0 ? s.epsilon : 0.0;
-  status.frames_dropped = frames_.stats().dropped_total() + s.frames.dropped();
+  status.frames_dropped = (frames_ ? frames_->stats().dropped_total() : 0) + s.frames.dropped();
   if (statuses_.write(status) == transport::WriteResult::ok) {
     ++counters_.statuses_sent;
   } else {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <set>
 #include <thread>
 
 #include "retreat/core/seed.hpp"
@@ -47,6 +48,11 @@ namespace {
 
 wire::Phase to_wire(physics::Phase p) { return static_cast<wire::Phase>(static_cast<std::uint8_t>(p)); }
 
+/// The QoS of the observers' topics this process writes: deeper with run.recorders.
+transport::QosIntent state_qos(const scenario::Scenario& scenario) {
+  return scenario.run.recorders > 0 ? transport::QosIntent::recorded_state() : transport::QosIntent::state();
+}
+
 }  // namespace
 
 wire::ArenaTelemetry telemetry_message(const physics::Telemetry& t, std::uint32_t lost_agents,
@@ -74,9 +80,8 @@ ArenaNode::ArenaNode(const scenario::Scenario& scenario, transport::Transport& t
       world_(physics::make_world(scenario.arena)),
       sensor_{scenario.arena.missed_onsets, scenario.arena.false_onsets, scenario.arena.tick_dt},
       telemetry_(transport.create_writer<wire::ArenaTelemetry>(
-          {wire::arena_telemetry_topic(scenario.dds.prefix), transport::QosIntent::state()})),
-      poses_(transport.create_writer<wire::Poses>(
-          {wire::poses_topic(scenario.dds.prefix), transport::QosIntent::state()})) {
+          {wire::arena_telemetry_topic(scenario.dds.prefix), state_qos(scenario)})),
+      poses_(transport.create_writer<wire::Poses>({wire::poses_topic(scenario.dds.prefix), state_qos(scenario)})) {
   for (const auto& f : world_->frames()) robot(f.id);
 }
 
@@ -110,12 +115,37 @@ std::uint32_t ArenaNode::wait_for_agents(std::chrono::nanoseconds timeout, const
                        : r.endpoints.matched() && (!r.plans || r.plans->matched_count() > 0) &&
                              (!r.external || r.external->has_pose);
   };
+  // run.recorders: every robot's frames and the telemetry and poses must also reach that many
+  // recorders before tick 0 (the agents wait likewise for their own writers), so that a
+  // recording holds every sample of the run.
+  const std::uint32_t wanted = scenario_.run.recorders;
+  std::set<std::string> recorders;
+  bool recorders_ready = wanted == 0;
   for (;;) {
     take_external_poses();
+    if (wanted > 0) {
+      recorders = transport::participants_announcing(transport_, wire::recorder_user_data);
+      recorders_ready = recorders.size() >= wanted &&
+                        transport::matched_with_all(telemetry_.matched(), recorders) &&
+                        transport::matched_with_all(poses_.matched(), recorders);
+    }
     std::uint32_t n = 0;
-    for (const auto& r : robots_) n += matched(*r) || departed(*r) ? 1 : 0;
-    if (n == robots_.size() || std::chrono::steady_clock::now() >= deadline || !keep_going()) break;
+    for (const auto& r : robots_) {
+      const bool recorded =
+          wanted == 0 || transport::matched_with_all(r->endpoints.frames.matched(), recorders);
+      n += (matched(*r) && recorded) || departed(*r) ? 1 : 0;
+    }
+    if ((n == robots_.size() && recorders_ready) || std::chrono::steady_clock::now() >= deadline ||
+        !keep_going()) {
+      break;
+    }
     std::this_thread::sleep_for(10ms);
+  }
+  if (!recorders_ready) {
+    std::fprintf(stderr,
+                 "retreat-arena: run.recorders = %u, but %zu seen and not every topic matched "
+                 "within run.startup_timeout; a recording may miss the first samples\n",
+                 wanted, recorders.size());
   }
   agents_started_ = 0;
   for (auto& r : robots_) {
@@ -464,6 +494,17 @@ void ArenaNode::count_leftover_plans() {
       if (!settled_plan(*r, p, current)) ++counters_.stale;  // a repeat of the plan in force: settled too
     }
   }
+}
+
+bool ArenaNode::flush(std::chrono::nanoseconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  const auto left = [&] {
+    return std::max(std::chrono::nanoseconds(0), std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                                     deadline - std::chrono::steady_clock::now()));
+  };
+  bool all = telemetry_.wait_for_acknowledgments(left()) && poses_.wait_for_acknowledgments(left());
+  for (auto& r : robots_) all = r->endpoints.frames.wait_for_acknowledgments(left()) && all;
+  return all;
 }
 
 RunSummary ArenaNode::finish(double wall_seconds) {

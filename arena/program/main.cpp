@@ -76,6 +76,12 @@ int main(int argc, char** argv) {
     }
     const double wall = std::chrono::duration<double>(Clock::now() - start).count();
     const auto summary = node.finish(wall);
+    if (s.run.recorders > 0 && !node.flush(std::chrono::seconds(5))) {
+      // A sample lost on the way is repaired only while the writer lives: with a recorder, the
+      // arena leaves once every reader has what it wrote (or after 5 s).
+      std::fprintf(stderr, "retreat-arena: not every reader acknowledged the last samples within 5 s; "
+                           "a recording may miss them\n");
+    }
     std::fprintf(stderr,
                  "retreat-arena: %lld ticks in %.2f s (%.0f ticks/s), %u agents lost, "
                  "%llu decisions dropped, trajectory %s\n",

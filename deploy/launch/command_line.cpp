@@ -27,6 +27,9 @@ std::variant<LaunchCommandLine, int> parse_command_line(int argc, char** argv,
   app.add_option("--arena-profile", o.arena_profile,
                  "DDS profile for the arena only, the hub of a star (deploy/dds/*-hub.xml); every "
                  "other process uses dds.profile");
+  app.add_option("--record", o.record,
+                 "record the run's DDS traffic into this MCAP file with retreat-record (with "
+                 "--seeds: FILE.seed<n>.mcap); every process waits for the recorder before tick 0");
   unsigned jobs = 0;
   auto* jobs_opt = app.add_option(
       "--jobs", jobs,

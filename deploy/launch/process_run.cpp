@@ -141,7 +141,8 @@ RunOutcome run_processes(const Plan& plan, std::uint64_t seed, const std::string
 
   ProgressLine progress(s.name + " seed " + std::to_string(seed), s.run.duration);
   prepare_shared_memory(plan, s, agent_processes(plan, s), progress);
-  std::unique_ptr<ChildProcess> arena, bridge;
+  std::unique_ptr<ChildProcess> arena, bridge, recorder;
+  const std::string recording = recording_path(plan, seed);
   std::vector<AgentProcess> agents;
   std::map<std::string, std::uint32_t> agent_vendors;
   const auto all_children = [&] {
@@ -149,6 +150,7 @@ RunOutcome run_processes(const Plan& plan, std::uint64_t seed, const std::string
     if (arena) out.push_back(arena.get());
     for (auto& a : agents) out.push_back(a.process.get());
     if (bridge) out.push_back(bridge.get());
+    if (recorder) out.push_back(recorder.get());
     return out;
   };
   const auto start_agent = [&](std::uint32_t robot) {
@@ -175,6 +177,13 @@ RunOutcome run_processes(const Plan& plan, std::uint64_t seed, const std::string
       arena_args.push_back("dds.profile=" + fs::absolute(plan.options.arena_profile).string());
     }
     arena = std::make_unique<ChildProcess>("retreat-arena", arena_args, dir + "/logs/arena.log");
+    if (!recording.empty()) {
+      // Second, so that it has a low participant index too; the arena and every agent wait for
+      // it to match their writers (run.recorders = 1) before their robot's traffic begins.
+      recorder = std::make_unique<ChildProcess>(
+          "retreat-record", with({plan.record_exe, "--dds", plan.vendors.arena, "--out", recording}),
+          dir + "/logs/record.log");
+    }
     const std::uint32_t robots = agent_processes(plan, s);
     for (std::uint32_t r = 0; r < robots && stop_signal.load() == 0; ++r) {
       std::this_thread::sleep_for(agent_stagger);
@@ -210,6 +219,7 @@ RunOutcome run_processes(const Plan& plan, std::uint64_t seed, const std::string
     }
     progress.show_status("waiting for the arena to match " + std::to_string(agents.size()) + " agents");
     bool bridge_reported = false;
+    bool recorder_reported = false;
     for (;;) {
       if (stop_signal.load() != 0) {
         stopped = true;
@@ -237,6 +247,12 @@ RunOutcome run_processes(const Plan& plan, std::uint64_t seed, const std::string
                            std::to_string(a.process->pid()) + ") " + st->describe() +
                            "; the arena will count it lost (" + a.process->log_path() + ")");
         }
+      }
+      if (recorder && !recorder_reported && recorder->poll()) {
+        recorder_reported = true;  // not restarted: a second recorder would start a new file
+        progress.message("retreat-launch: retreat-record (pid " + std::to_string(recorder->pid()) + ") " +
+                         recorder->poll()->describe() + " (" + recorder->log_path() +
+                         "); the run goes on unrecorded");
       }
       if (bridge && !bridge_reported && bridge->poll()) {
         const bool restart = bridge_restarts < max_bridge_restarts;
@@ -285,6 +301,18 @@ RunOutcome run_processes(const Plan& plan, std::uint64_t seed, const std::string
     throw;
   }
   progress.finish();
+  // The recorder once every agent has ended (their last samples are acknowledged by then).
+  std::string recorder_exit;
+  if (recorder) {
+    stop_all({recorder.get()}, child_stop_grace);
+    const auto st = recorder->poll();
+    recorder_exit = st ? st->describe() : "still running";
+    if (!st || st->signal != 0 || st->code != 0) {
+      progress.message("retreat-launch: retreat-record (pid " + std::to_string(recorder->pid()) + ") " +
+                       recorder_exit + ": the recording " + recording + " may be incomplete (" +
+                       recorder->log_path() + ")");
+    }
+  }
   // The bridge goes last, once summary.json is complete: it writes its report on SIGTERM.
   struct StopBridge {
     ChildProcess* bridge;
@@ -309,6 +337,8 @@ RunOutcome run_processes(const Plan& plan, std::uint64_t seed, const std::string
   record.bridge_restarts = bridge_restarts;
   record.arena_restarts = arena_restarts;
   record.seconds_to_first_tick = first_tick_seconds.value_or(-1.0);
+  record.recording = recording;
+  record.recorder_exit = recorder_exit;
   RunOutcome out;
   out.stopped = stopped;
   if (stopped && !fs::exists(dir + "/summary.json")) return out;

@@ -26,6 +26,8 @@ struct LaunchRecord {
   /// From the launch until the launcher saw the arena's first telemetry (tick 0, published once
   /// the agents matched) [s]; −1: not seen (in-process, or no telemetry reader).
   double seconds_to_first_tick = -1.0;
+  std::string recording;         ///< --record: the MCAP file; empty: none
+  std::string recorder_exit;     ///< how retreat-record ended ("exit code 0", ...)
 };
 
 /// Writes `j` to `path` through a temporary file and rename(): readers never see half a file.

@@ -6,6 +6,7 @@
 #include <dirent.h>
 
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <limits>
 #include <map>
@@ -155,6 +156,54 @@ TEST(TransportContract, TenThousandReliableSamplesArriveWithNoneLostAndNoneReord
   const auto got = receive(reader, *b, count, retreat::testing::hang_ceiling);
   ASSERT_EQ(got.size(), static_cast<std::size_t>(count));
   for (int i = 0; i < count; ++i) ASSERT_EQ(got[static_cast<std::size_t>(i)].tick, i) << "reordered or lost at " << i;
+}
+
+/// A little-endian value of @p bytes at @p offset.
+template <class T>
+T little_endian_at(const std::vector<std::uint8_t>& bytes, std::size_t offset) {
+  T value{};
+  std::memcpy(&value, bytes.data() + offset, sizeof value);  // this host is little-endian (x86-64)
+  return value;
+}
+
+TEST(TransportContract, ARawReaderKeepsEverySampleAsItsCdrBytes) {
+  const auto prefix = test_prefix();
+  const TopicSpec topic{wire::decision_topic(prefix, 7), QosIntent::control()};
+  if (vendor == "inmemory") {
+    auto t = participant("recorder");
+    EXPECT_THROW(t->create_raw_reader(wire::MessageKind::decision, topic), std::invalid_argument);
+    return;
+  }
+  auto a = participant("agent");
+  auto b = participant("recorder");
+  auto writer = a->create_writer<wire::Decision>(topic);
+  auto reader = b->create_raw_reader(wire::MessageKind::decision, topic);
+  await_match(writer, reader);
+  constexpr int count = 50;
+  for (int i = 0; i < count; ++i) ASSERT_EQ(writer.write(testing::decision_sample(7, i)), WriteResult::ok);
+  std::vector<RawSample> got;
+  ASSERT_TRUE(eventually([&] { reader.take(got); return got.size() >= count; }, retreat::testing::hang_ceiling))
+      << got.size() << " of " << count << " samples";
+  ASSERT_EQ(got.size(), static_cast<std::size_t>(count));
+  EXPECT_EQ(reader.overflowed(), 0u);
+  const auto before = std::chrono::duration_cast<std::chrono::nanoseconds>(
+                          std::chrono::system_clock::now().time_since_epoch()).count();
+  for (int i = 0; i < count; ++i) {
+    const auto& cdr = got[static_cast<std::size_t>(i)].cdr;
+    const auto expected = testing::decision_sample(7, i);
+    // XCDR1 little endian (encapsulation 0x0001, options 0), then the @final struct's members at
+    // their natural alignment from the end of the header: robot_id at 0, tick at 8, time at 16,
+    // retreat at 24 (docs/protocol.md §4).
+    ASSERT_GE(cdr.size(), 4u + 25u) << "sample " << i;
+    EXPECT_EQ(cdr[0], 0x00);
+    EXPECT_EQ(cdr[1], 0x01);
+    EXPECT_EQ(little_endian_at<std::uint32_t>(cdr, 4), expected.robot_id);
+    EXPECT_EQ(little_endian_at<std::int64_t>(cdr, 12), expected.tick) << "sample " << i;
+    EXPECT_EQ(little_endian_at<double>(cdr, 20), expected.time);
+    EXPECT_EQ(cdr[28], expected.retreat ? 1 : 0);
+    EXPECT_GT(got[static_cast<std::size_t>(i)].source_time_ns, 0);
+    EXPECT_LE(got[static_cast<std::size_t>(i)].source_time_ns, before);
+  }
 }
 
 TEST(TransportContract, ALateJoinerGetsTheLastTransientLocalSample) {

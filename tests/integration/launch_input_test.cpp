@@ -44,6 +44,14 @@ TEST(LaunchInput, BadInputIsRefusedWithExitCodeTwoAndNothingStarted) {
   expect_refused("jobs-too-many", {robotarium, "--in-process", "--seeds", "1:2", "--jobs", "257"});
   expect_refused("jobs-not-a-number", {robotarium, "--in-process", "--jobs", "two"});
   expect_refused("jobs-in-processes", {robotarium, "--seeds", "1:2", "--jobs", "2", "--domain", "64"});
+  const std::string mcap = ::testing::TempDir() + "/refused.mcap";
+  expect_refused("record-in-process", {robotarium, "--in-process", "--record", mcap});
+  expect_refused("recorders-in-process", {robotarium, "--in-process", "--set", "run.recorders=1"});
+  expect_refused("recorders-out-of-range", {robotarium, "--set", "run.recorders=9", "--domain", "64"});
+  expect_refused("record-mixed", {robotarium, "--dds", "mixed", "--record", mcap, "--domain", "64"});
+  expect_refused("record-no-directory",
+                 {robotarium, "--dds", "cyclonedds", "--record", "/nonexistent/run.mcap", "--domain", "64"});
+  EXPECT_FALSE(std::filesystem::exists(mcap)) << "a refused launch wrote its recording";
 }
 
 TEST(LaunchInput, ASwarmBeyondWhatItsDdsSettingsDiscoverIsRefusedWithTheLimitAndTheWayOut) {

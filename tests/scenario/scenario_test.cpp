@@ -128,8 +128,9 @@ TEST(ScenarioKeys, TheKeysAreTheSerializedMembersInFileOrder) {
   const auto keys = known_keys();
   // 52 with agent.missed_onsets, agent.false_onsets, arena.missed_onsets, arena.false_onsets
   // (issue 14); 56 with arena.external_robots, external_frozen_after, external_lost_after and
-  // external_max_speed (issue 15); 58 with run.plans and run.plan_horizon (issue 13).
-  ASSERT_EQ(keys.size(), 58u);
+  // external_max_speed (issue 15); 58 with run.plans and run.plan_horizon (issue 13); 59 with
+  // run.recorders (issue 16).
+  ASSERT_EQ(keys.size(), 59u);
   EXPECT_EQ(keys.front(), "name");
   EXPECT_EQ(keys[2], "model.lambda_p");
   EXPECT_EQ(keys[15], "arena.encounter_model");

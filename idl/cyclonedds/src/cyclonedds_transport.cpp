@@ -4,6 +4,7 @@
 #include "retreat/transport/cyclonedds.hpp"
 
 #include <dds/dds.h>
+#include <dds/ddsi/ddsi_serdata.h>
 
 #include <filesystem>
 #include <fstream>
@@ -11,6 +12,8 @@
 #include <mutex>
 #include <sstream>
 #include <stdexcept>
+#include <tuple>
+#include <utility>
 
 #include "cyclonedds_convert.hpp"
 
@@ -19,7 +22,11 @@ namespace {
 
 /// The built-in configuration: loopback only. `lo` has no MULTICAST flag on these machines, so
 /// multicast is forced on for it; without it Cyclone falls back to unicast discovery with
-/// participant indices and runs out of them at about ten processes (ARCHITECTURE.md). Each
+/// participant indices and runs out of them at about ten processes (ARCHITECTURE.md). Multicast
+/// is for participant announcements only (AllowMulticast spdp, as deploy/dds/cyclonedds-
+/// loopback.xml): a reader that advertised a multicast data locator made Fast DDS 2.9 agents of a
+/// mixed swarm abort in their statistics module (an assertion in OutputTrafficManager) once a
+/// second Cyclone DDS reader of their topics (a recorder, an observer) joined. Each
 /// participant also takes a participant index (well-known unicast ports 7410 + 250·domain +
 /// 2·index, up to the 120 a domain's port range holds) and announces itself to those ports on
 /// 127.0.0.1: Fast DDS participants, which do not use multicast here, listen and announce on
@@ -27,7 +34,7 @@ namespace {
 constexpr const char* loopback_config =
     "<CycloneDDS><Domain Id=\"any\"><General><Interfaces>"
     "<NetworkInterface name=\"lo\" multicast=\"true\"/>"
-    "</Interfaces></General>"
+    "</Interfaces><AllowMulticast>spdp</AllowMulticast></General>"
     "<Discovery><ParticipantIndex>auto</ParticipantIndex>"
     "<MaxAutoParticipantIndex>119</MaxAutoParticipantIndex>"
     "<Peers><Peer address=\"127.0.0.1\"/></Peers></Discovery>"
@@ -213,23 +220,35 @@ class CycloneWriterPort final : public detail::WriterPort {
   dds_entity_t writer_ = 0;
 };
 
+/// Creates the topic and a reader of it with @p listener (deleted here, whatever happens);
+/// throws one line if Cyclone refuses either. Returns {topic, reader}.
+std::pair<dds_entity_t, dds_entity_t> open_reader(dds_entity_t participant, const dds_topic_descriptor_t* desc,
+                                                  const std::string& name, const QosIntent& intent,
+                                                  dds_listener_t* listener) {
+  const dds_entity_t topic = dds_create_topic(participant, desc, name.c_str(), nullptr, nullptr);
+  if (topic < 0) {
+    dds_delete_listener(listener);
+    throw std::runtime_error(fail("create topic '" + name + "'", topic));
+  }
+  Qos qos(intent);
+  const dds_entity_t reader = dds_create_reader(participant, topic, qos.get(), listener);
+  dds_delete_listener(listener);
+  if (reader < 0) {
+    dds_delete(topic);
+    throw std::runtime_error(fail("create reader on '" + name + "'", reader));
+  }
+  return {topic, reader};
+}
+
 template <class T>
 class CycloneReaderPort final : public detail::ReaderPort {
  public:
   CycloneReaderPort(dds_entity_t participant, const std::string& topic, const QosIntent& intent,
                     std::shared_ptr<Inbox> inbox)
       : inbox_(std::move(inbox)) {
-    topic_ = dds_create_topic(participant, T::desc(), topic.c_str(), nullptr, nullptr);
-    if (topic_ < 0) throw std::runtime_error(fail("create topic '" + topic + "'", topic_));
-    Qos qos(intent);
     dds_listener_t* listener = dds_create_listener(this);
     dds_lset_data_available(listener, &CycloneReaderPort::on_data_available);
-    reader_ = dds_create_reader(participant, topic_, qos.get(), listener);
-    dds_delete_listener(listener);
-    if (reader_ < 0) {
-      dds_delete(topic_);
-      throw std::runtime_error(fail("create reader on '" + topic + "'", reader_));
-    }
+    std::tie(topic_, reader_) = open_reader(participant, T::desc(), topic, intent, listener);
     // Samples that arrived before the listener was attached (transient-local replay).
     drain(reader_);
   }
@@ -269,6 +288,69 @@ class CycloneReaderPort final : public detail::ReaderPort {
   }
 
   std::shared_ptr<Inbox> inbox_;
+  std::mutex drain_mutex_;
+  dds_entity_t topic_ = 0;
+  dds_entity_t reader_ = 0;
+};
+
+/// Keeps each sample's serialized form (dds_takecdr): the bytes as received, header included.
+class CycloneRawReaderPort final : public detail::ReaderPort {
+ public:
+  CycloneRawReaderPort(dds_entity_t participant, const dds_topic_descriptor_t* desc,
+                       const std::string& topic, const QosIntent& intent,
+                       std::shared_ptr<RawInbox> inbox)
+      : inbox_(std::move(inbox)) {
+    dds_listener_t* listener = dds_create_listener(this);
+    dds_lset_data_available(listener, &CycloneRawReaderPort::on_data_available);
+    dds_lset_sample_lost(listener, &CycloneRawReaderPort::on_sample_lost);
+    std::tie(topic_, reader_) = open_reader(participant, desc, topic, intent, listener);
+    drain(reader_);
+  }
+  ~CycloneRawReaderPort() override {
+    dds_set_listener(reader_, nullptr);
+    dds_delete(reader_);
+    dds_delete(topic_);
+  }
+  std::vector<RemoteEndpoint> matched() const override {
+    return matched_of(reader_, &dds_get_matched_publications, &dds_get_matched_publication_data);
+  }
+
+ private:
+  /// Samples the writer no longer had when this reader asked for them again: lost, and counted.
+  static void on_sample_lost(dds_entity_t, const dds_sample_lost_status_t status, void* self) {
+    auto& inbox = *static_cast<CycloneRawReaderPort*>(self)->inbox_;
+    for (std::int32_t i = 0; i < status.total_count_change; ++i) inbox.count_lost();
+  }
+  static void on_data_available(dds_entity_t reader, void* self) {
+    static_cast<CycloneRawReaderPort*>(self)->drain(reader);
+  }
+  void drain(dds_entity_t reader) noexcept {
+    constexpr std::uint32_t batch = 64;
+    ddsi_serdata* samples[batch] = {};
+    dds_sample_info_t infos[batch];
+    std::lock_guard lock(drain_mutex_);
+    for (;;) {
+      const dds_return_t n = dds_takecdr(reader, samples, batch, infos, 0);
+      if (n <= 0) break;
+      for (dds_return_t i = 0; i < n; ++i) {
+        if (infos[i].valid_data) {
+          try {
+            RawSample raw;
+            raw.cdr.resize(ddsi_serdata_size(samples[i]));
+            ddsi_serdata_to_ser(samples[i], 0, raw.cdr.size(), raw.cdr.data());
+            raw.source_time_ns = infos[i].source_timestamp;
+            inbox_->push(std::move(raw));
+          } catch (...) {
+            // out of memory: the sample is lost like an overflow; never unwind into Cyclone
+          }
+        }
+        ddsi_serdata_unref(samples[i]);
+      }
+      if (static_cast<std::uint32_t>(n) < batch) break;
+    }
+  }
+
+  std::shared_ptr<RawInbox> inbox_;
   std::mutex drain_mutex_;
   dds_entity_t topic_ = 0;
   dds_entity_t reader_ = 0;
@@ -356,6 +438,13 @@ class CycloneTransport final : public Transport {
     return dispatch(kind, [&](auto traits) -> std::unique_ptr<detail::ReaderPort> {
       return std::make_unique<CycloneReaderPort<decltype(traits)>>(participant_, topic.name,
                                                                   topic.qos, std::move(inbox));
+    });
+  }
+  std::unique_ptr<detail::ReaderPort> make_raw_reader(wire::MessageKind kind, const TopicSpec& topic,
+                                                      std::shared_ptr<RawInbox> inbox) override {
+    return dispatch(kind, [&](auto traits) -> std::unique_ptr<detail::ReaderPort> {
+      return std::make_unique<CycloneRawReaderPort>(participant_, decltype(traits)::desc(), topic.name,
+                                                    topic.qos, std::move(inbox));
     });
   }
 

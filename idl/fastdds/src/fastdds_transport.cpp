@@ -236,6 +236,52 @@ class FastReaderPort final : public detail::ReaderPort, public dds::DataReaderLi
   MatchSet matches_;
 };
 
+/// Fast DDS 2.9 hands a reader no serialized sample: the raw reader decodes it with the generated
+/// type (as every reader here does) and serializes it again with the same generated code, a Fast
+/// DDS writer's XCDR1 encoding. tests/recording compares a Fast DDS recording with a Cyclone DDS
+/// one, which keeps the received bytes, for the same run: equal but for the end padding XCDR1
+/// lets Cyclone DDS add (docs/recording.md).
+template <class T>
+class FastRawReaderPort final : public detail::ReaderPort, public dds::DataReaderListener {
+ public:
+  FastRawReaderPort(std::shared_ptr<FastParticipant> owner, dds::Subscriber* subscriber,
+                    dds::Topic* topic, const QosIntent& intent, std::shared_ptr<RawInbox> inbox);
+  ~FastRawReaderPort() override;
+  std::vector<RemoteEndpoint> matched() const override { return matches_.snapshot(); }
+  void on_subscription_matched(dds::DataReader*, const dds::SubscriptionMatchedStatus& s) override {
+    matches_.update(s.last_publication_handle, s.current_count_change);
+  }
+  /// Samples a writer no longer had when this reader asked for them again (a keep-last writer
+  /// replaced them before we acknowledged them): lost, and counted.
+  void on_sample_lost(dds::DataReader*, const dds::SampleLostStatus& s) override {
+    for (std::int32_t i = 0; i < s.total_count_change; ++i) inbox_->count_lost();
+  }
+  void on_data_available(dds::DataReader* reader) override {
+    typename T::Vendor sample;
+    dds::SampleInfo info;
+    while (reader->take_next_sample(&sample, &info) == ReturnCode_t::RETCODE_OK) {
+      if (!info.valid_data) continue;
+      const auto size = type_.getSerializedSizeProvider(&sample)();
+      rtps::SerializedPayload_t payload(size);
+      if (!type_.serialize(&sample, &payload)) {
+        inbox_->count_lost();  // not expected for a sample the same code decoded; counted if so
+        continue;
+      }
+      inbox_->push(RawSample{std::vector<std::uint8_t>(payload.data, payload.data + payload.length),
+                             info.source_timestamp.to_ns()});
+    }
+  }
+
+ private:
+  std::shared_ptr<FastParticipant> owner_;
+  dds::Subscriber* subscriber_;
+  dds::Topic* topic_;
+  std::shared_ptr<RawInbox> inbox_;
+  dds::DataReader* reader_ = nullptr;
+  typename T::PubSub type_;
+  MatchSet matches_;
+};
+
 // ---- participant -----------------------------------------------------------------------------
 /// Owns the DomainParticipant and its publisher, subscriber and topics. Shared by the transport
 /// and its ports so that the participant is deleted last.
@@ -420,26 +466,54 @@ FastWriterPort<T>::~FastWriterPort() {
   owner_->release_topic(topic_);
 }
 
+/// Creates a reader of @p topic with @p listener, or releases the topic and throws (one line).
+dds::DataReader* open_reader(FastParticipant& owner, dds::Subscriber* subscriber, dds::Topic* topic,
+                             const QosIntent& intent, dds::DataReaderListener* listener,
+                             const dds::StatusMask& mask) {
+  auto* reader = subscriber->create_datareader(topic, reader_qos(subscriber, intent), listener, mask);
+  if (reader == nullptr) {
+    const auto name = topic->get_name();
+    owner.release_topic(topic);
+    throw std::runtime_error("Fast DDS refused to create a reader on '" + name + "'" + owner.refusal_hint());
+  }
+  return reader;
+}
+
+/// Detaches the listener first (no callback into a port being destroyed), then deletes.
+void close_reader(FastParticipant& owner, dds::Subscriber* subscriber, dds::Topic* topic,
+                  dds::DataReader* reader) {
+  reader->set_listener(nullptr);
+  subscriber->delete_datareader(reader);
+  owner.release_topic(topic);
+}
+
 template <class T>
 FastReaderPort<T>::FastReaderPort(std::shared_ptr<FastParticipant> owner,
                                   dds::Subscriber* subscriber, dds::Topic* topic,
                                   const QosIntent& intent, std::shared_ptr<Inbox> inbox)
     : owner_(std::move(owner)), subscriber_(subscriber), topic_(topic), inbox_(std::move(inbox)) {
-  auto mask = dds::StatusMask::subscription_matched() << dds::StatusMask::data_available();
-  reader_ = subscriber_->create_datareader(topic_, reader_qos(subscriber_, intent), this, mask);
-  if (reader_ == nullptr) {
-    const auto name = topic_->get_name();
-    owner_->release_topic(topic_);
-    throw std::runtime_error("Fast DDS refused to create a reader on '" + name + "'" +
-                             owner_->refusal_hint());
-  }
+  reader_ = open_reader(*owner_, subscriber_, topic_, intent, this,
+                        dds::StatusMask::subscription_matched() << dds::StatusMask::data_available());
 }
 
 template <class T>
 FastReaderPort<T>::~FastReaderPort() {
-  reader_->set_listener(nullptr);
-  subscriber_->delete_datareader(reader_);
-  owner_->release_topic(topic_);
+  close_reader(*owner_, subscriber_, topic_, reader_);
+}
+
+template <class T>
+FastRawReaderPort<T>::FastRawReaderPort(std::shared_ptr<FastParticipant> owner,
+                                        dds::Subscriber* subscriber, dds::Topic* topic,
+                                        const QosIntent& intent, std::shared_ptr<RawInbox> inbox)
+    : owner_(std::move(owner)), subscriber_(subscriber), topic_(topic), inbox_(std::move(inbox)) {
+  reader_ = open_reader(*owner_, subscriber_, topic_, intent, this,
+                        dds::StatusMask::subscription_matched() << dds::StatusMask::data_available()
+                                                                << dds::StatusMask::sample_lost());
+}
+
+template <class T>
+FastRawReaderPort<T>::~FastRawReaderPort() {
+  close_reader(*owner_, subscriber_, topic_, reader_);
 }
 
 class FastTransport final : public Transport {
@@ -471,6 +545,14 @@ class FastTransport final : public Transport {
     auto* t = participant_->acquire_topic(kind, topic.name);
     return dispatch(kind, [&](auto traits) -> std::unique_ptr<detail::ReaderPort> {
       return std::make_unique<FastReaderPort<decltype(traits)>>(
+          participant_, participant_->subscriber(), t, topic.qos, std::move(inbox));
+    });
+  }
+  std::unique_ptr<detail::ReaderPort> make_raw_reader(wire::MessageKind kind, const TopicSpec& topic,
+                                                      std::shared_ptr<RawInbox> inbox) override {
+    auto* t = participant_->acquire_topic(kind, topic.name);
+    return dispatch(kind, [&](auto traits) -> std::unique_ptr<detail::ReaderPort> {
+      return std::make_unique<FastRawReaderPort<decltype(traits)>>(
           participant_, participant_->subscriber(), t, topic.qos, std::move(inbox));
     });
   }

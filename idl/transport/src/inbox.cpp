@@ -61,4 +61,29 @@ void Inbox::push(wire::AnyMessage&& sample) noexcept {
   }
 }
 
+RawInbox::RawInbox(std::shared_ptr<Notifier> notifier, std::size_t capacity)
+    : notifier_(std::move(notifier)), capacity_(capacity) {}
+
+void RawInbox::push(RawSample&& sample) noexcept {
+  try {
+    {
+      std::lock_guard lock(mutex_);
+      if (queue_.size() >= capacity_) {  // drop the oldest
+        queue_.pop_front();
+        overflowed_.fetch_add(1);
+      }
+      queue_.push_back(std::move(sample));
+    }
+    notifier_->notify();
+  } catch (...) {
+    overflowed_.fetch_add(1);  // out of memory on a middleware thread: drop, never unwind
+  }
+}
+
+void RawInbox::drain_into(std::vector<RawSample>& out) {
+  std::lock_guard lock(mutex_);
+  for (auto& sample : queue_) out.push_back(std::move(sample));
+  queue_.clear();
+}
+
 }  // namespace retreat::transport

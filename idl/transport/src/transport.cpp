@@ -21,6 +21,29 @@ bool Transport::wait(std::chrono::nanoseconds timeout) {
   return arrived;
 }
 
+std::unique_ptr<detail::ReaderPort> Transport::make_raw_reader(wire::MessageKind, const TopicSpec& topic,
+                                                                std::shared_ptr<RawInbox>) {
+  throw std::invalid_argument("topic '" + topic.name + "': the " + std::string(vendor()) +
+                              " transport carries no serialized samples to record (use fastdds "
+                              "or cyclonedds)");
+}
+
+std::set<std::string> participants_announcing(const Transport& transport, std::string_view user_data) {
+  std::set<std::string> out;
+  for (const auto& p : transport.participants()) {
+    if (p.user_data == user_data) out.insert(p.guid);
+  }
+  return out;
+}
+
+bool matched_with_all(const std::vector<RemoteEndpoint>& remotes,
+                      const std::set<std::string>& participants) {
+  return std::all_of(participants.begin(), participants.end(), [&](const std::string& p) {
+    return std::any_of(remotes.begin(), remotes.end(),
+                       [&](const RemoteEndpoint& r) { return r.participant_guid == p; });
+  });
+}
+
 std::string hex_guid(const unsigned char (&bytes)[16]) {
   static constexpr char digits[] = "0123456789abcdef";
   std::string out(32, '0');

@@ -68,6 +68,8 @@ void validate_run(const RunParams& r) {
         num(r.telemetry_period), "must be > 0 (s)");
   check(r.plan_horizon >= 1 && r.plan_horizon <= 1000000, "run.plan_horizon", std::to_string(r.plan_horizon),
         "must be in 1..1000000 (ticks)");
+  check(r.recorders <= 8, "run.recorders", std::to_string(r.recorders),
+        "must be in 0..8 (recorders to wait for)");
 }
 
 void validate_dds(const DdsParams& d) {

@@ -56,6 +56,11 @@ class AgentNode {
   /// matched, or a participant announcing `retreat:arena` was discovered (an endless queue's
   /// spare agent waits for a robot the arena has not made yet). Checked at most once a second.
   bool arena_seen();
+  /// Whether @p wanted recorders (run.recorders) are in discovery and each is matched with every
+  /// writer of this agent (decisions, plans, status): until then, what the agent writes could
+  /// be missing from a recording, and the agent does not open its frames reader (so the arena,
+  /// which waits for that reader, does not start).
+  bool recorders_matched(std::uint32_t wanted) const;
 
   /// Waits until the arena acknowledged everything sent, up to `timeout`.
   void flush(std::chrono::nanoseconds timeout);
@@ -79,12 +84,17 @@ class AgentNode {
   void publish_status(std::int64_t tick, double time);
   /// Notices a new arena incarnation: a participant not seen before reading our decisions.
   void watch_decision_readers();
+  /// Opens the frames reader unless run.recorders are still to match (until run.startup_timeout).
+  bool open_frames();
 
   transport::Transport& transport_;
   std::uint32_t robot_id_;
   double status_period_;
   RetreatAgent agent_;
-  transport::Reader<wire::ProximityFrame> frames_;
+  transport::TopicSpec frames_topic_;
+  std::uint32_t recorders_;
+  std::chrono::steady_clock::time_point recorders_deadline_;
+  std::optional<transport::Reader<wire::ProximityFrame>> frames_;  ///< opened by open_frames()
   transport::Writer<wire::Decision> decisions_;
   std::optional<transport::Writer<wire::Decision>> plans_;  ///< with run.plans
   FrameClock clock_;

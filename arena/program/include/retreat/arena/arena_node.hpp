@@ -60,6 +60,10 @@ class ArenaNode {
   /// whose bus is the run's own), saving up to run.plan_horizon steps per agent; the trajectory
   /// is the same either way.
   void settle_plans_at_end(bool on) { settle_plans_at_end_ = on; }
+  /// Waits, up to @p timeout in all, until every reader acknowledged every frame, telemetry and
+  /// poses sample written (with run.recorders: the recorders' last samples). Returns true if all
+  /// were acknowledged in time.
+  bool flush(std::chrono::nanoseconds timeout);
 
   /// Lockstep: receives decisions until every live agent answered the current tick; an agent
   /// silent for run.agent_timeout is declared lost. Returns false if `keep_going` said stop.

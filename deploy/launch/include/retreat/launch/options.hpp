@@ -34,6 +34,7 @@ struct LaunchOptions {
   std::string bin_dir;  ///< empty: the directory of this executable
   std::string arena_profile;  ///< the arena's dds.profile (the hub of a star); empty: dds.profile
   std::optional<unsigned> jobs;  ///< seeds run at once (--in-process); empty: the core count
+  std::string record;  ///< --record FILE: retreat-record writes the run's DDS traffic there (MCAP)
 };
 
 using scenario::parse_seed_range;
@@ -58,6 +59,7 @@ struct Plan {
   bool endless = false;                ///< arena.queue = endless
   std::optional<int> domain;           ///< explicit domain (--domain or --set dds.domain=N)
   std::string arena_exe, agent_exe, bridge_exe;  ///< bridge_exe empty: none (or --no-bridge)
+  std::string record_exe;              ///< retreat-record, with --record; empty otherwise
   bool bridge_missing = false;         ///< no retreat-bridge next to the launcher
   unsigned jobs = 1;                   ///< seeds run at once (> 1 only in process)
 };
@@ -66,6 +68,10 @@ struct Plan {
 /// scenario::ConfigError (both one line). Does not start anything or create any file.
 /// `self_dir` is the directory of the launcher's executable.
 Plan make_plan(const LaunchOptions& options, const std::string& self_dir);
+
+/// Where --record writes the run of @p seed: FILE as given (absolute), or with several seeds
+/// FILE with `.seed<n>` before its extension (`run.mcap` -> `run.seed3.mcap`). Empty: no --record.
+std::string recording_path(const Plan& plan, std::uint64_t seed);
 
 /// The overrides a child gets for one seed (the user's, then `seed=<n>`).
 std::vector<std::string> overrides_for_seed(const Plan& plan, std::uint64_t seed);

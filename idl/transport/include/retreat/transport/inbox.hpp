@@ -9,6 +9,7 @@
 #include <deque>
 #include <memory>
 #include <mutex>
+#include <vector>
 
 #include "retreat/wire/messages.hpp"
 
@@ -90,6 +91,35 @@ class Inbox {
   std::atomic<std::size_t> size_{0};
   std::atomic<std::uint64_t> overflowed_{0};
   std::atomic<std::uint64_t> undecodable_{0};
+};
+
+/// One sample as it travelled, for recorders: its serialized bytes (the 4-byte encapsulation
+/// header, then the XCDR1 body) and the writer's source timestamp.
+struct RawSample {
+  std::vector<std::uint8_t> cdr;
+  std::int64_t source_time_ns = 0;  ///< the writer's source timestamp [ns since the Unix epoch]
+};
+
+/// A bounded FIFO of raw samples for one raw reader (always pushed from middleware threads).
+class RawInbox {
+ public:
+  /// Holds at most `capacity` samples; beyond that the oldest is dropped and counted.
+  explicit RawInbox(std::shared_ptr<Notifier> notifier, std::size_t capacity = 1u << 20);
+  /// Called from middleware threads: enqueue and wake the caller's thread. Never throws.
+  void push(RawSample&& sample) noexcept;
+  /// Appends every queued sample to @p out, in arrival order, and empties the inbox.
+  void drain_into(std::vector<RawSample>& out);
+  /// Counts a sample lost before it could be queued (e.g. it could not be serialized).
+  void count_lost() noexcept { overflowed_.fetch_add(1); }
+  /// Samples dropped: beyond the capacity, or counted lost.
+  std::uint64_t overflowed() const { return overflowed_.load(); }
+
+ private:
+  std::shared_ptr<Notifier> notifier_;
+  std::size_t capacity_;
+  std::mutex mutex_;
+  std::deque<RawSample> queue_;
+  std::atomic<std::uint64_t> overflowed_{0};
 };
 
 }  // namespace retreat::transport

@@ -11,6 +11,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -227,6 +228,38 @@ class Reader {
   ReaderStats stats_;
 };
 
+/// A reader that keeps every sample as its bytes on the wire, undecoded (retreat-record). Samples
+/// are not validated: a recorder keeps what was sent. Move-only; must not outlive its Transport.
+class RawReader {
+ public:
+  /// Appends every sample received since the last call to @p out, in arrival order.
+  void take(std::vector<RawSample>& out) { inbox_->drain_into(out); }
+  /// Samples lost: the reader's inbox was full (the taker fell behind), the writer no longer had
+  /// them when asked again (the DDS sample-lost status: a keep-last writer replaced them before
+  /// this reader acknowledged them), or a sample could not be serialized again (Fast DDS).
+  std::uint64_t overflowed() const { return inbox_->overflowed(); }
+  std::size_t matched_count() const { return port_->matched().size(); }
+  std::vector<RemoteEndpoint> matched() const { return port_->matched(); }
+  const std::string& topic() const { return topic_; }
+  wire::MessageKind kind() const { return kind_; }
+
+ private:
+  friend class Transport;
+  RawReader(std::unique_ptr<detail::ReaderPort> port, std::shared_ptr<RawInbox> inbox,
+            std::string topic, wire::MessageKind kind,
+            const std::shared_ptr<detail::PortRegistry>& registry)
+      : port_(std::move(port)),
+        inbox_(std::move(inbox)),
+        topic_(std::move(topic)),
+        kind_(kind),
+        registration_(registry, registry->add(port_.get(), topic_, true)) {}
+  std::unique_ptr<detail::ReaderPort> port_;
+  std::shared_ptr<RawInbox> inbox_;
+  std::string topic_;
+  wire::MessageKind kind_;
+  detail::Registration registration_;
+};
+
 /// One participant on one domain.
 class Transport {
  public:
@@ -243,6 +276,14 @@ class Transport {
     auto inbox = std::make_shared<Inbox>(notifier_);
     auto port = make_reader(wire::KindOf<M>::value, topic, inbox);
     return Reader<M>(std::move(port), std::move(inbox), topic.name, registry_);
+  }
+
+  /// A reader of @p kind's samples on @p topic that keeps their CDR bytes (DDS transports only;
+  /// the in-memory transport throws std::invalid_argument).
+  RawReader create_raw_reader(wire::MessageKind kind, const TopicSpec& topic) {
+    auto inbox = std::make_shared<RawInbox>(notifier_);
+    auto port = make_raw_reader(kind, topic, inbox);
+    return RawReader(std::move(port), std::move(inbox), topic.name, kind, registry_);
   }
 
   /// Blocks until any reader of this transport has received a sample since the previous call
@@ -268,12 +309,24 @@ class Transport {
   virtual std::unique_ptr<detail::ReaderPort> make_reader(wire::MessageKind kind,
                                                           const TopicSpec& topic,
                                                           std::shared_ptr<Inbox> inbox) = 0;
+  /// Raw readers: only the DDS transports have bytes on a wire to keep.
+  virtual std::unique_ptr<detail::ReaderPort> make_raw_reader(wire::MessageKind kind,
+                                                              const TopicSpec& topic,
+                                                              std::shared_ptr<RawInbox> inbox);
 
  private:
   std::shared_ptr<Notifier> notifier_;
   std::shared_ptr<detail::PortRegistry> registry_ = std::make_shared<detail::PortRegistry>();
   std::uint64_t seen_generation_ = 0;
 };
+
+/// The participants seen by @p transport that announced exactly @p user_data (e.g. the
+/// recorders, wire::recorder_user_data), by GUID.
+std::set<std::string> participants_announcing(const Transport& transport, std::string_view user_data);
+
+/// Whether @p remotes include an endpoint of every participant in @p participants.
+bool matched_with_all(const std::vector<RemoteEndpoint>& remotes,
+                      const std::set<std::string>& participants);
 
 /// Formats 16 bytes as 32 lowercase hex digits (the GUID form used throughout).
 std::string hex_guid(const unsigned char (&bytes)[16]);

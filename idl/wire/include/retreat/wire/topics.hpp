@@ -16,6 +16,10 @@ inline constexpr const char* default_prefix = "retreat";
 /// The participant user data of the arena, or of whoever plays its part for a robot (a robot's
 /// link): docs/protocol.md §9. Informational; an agent takes it as "the arena has appeared".
 inline constexpr const char* arena_user_data = "retreat:arena";
+/// The participant user data of a recorder (retreat-record). With `run.recorders: n`, the arena
+/// and every agent wait for n of them to match their writers before their robot's traffic
+/// begins, so that a recording holds every sample (docs/protocol.md §9).
+inline constexpr const char* recorder_user_data = "retreat:recorder";
 
 std::string proximity_topic(const std::string& prefix, RobotId robot);  ///< <p>/robot_<id>/proximity
 std::string decision_topic(const std::string& prefix, RobotId robot);   ///< <p>/robot_<id>/decision

@@ -45,7 +45,9 @@ inline constexpr DomainBlock dds_profiles{"DDS profiles", 42, 8};
 inline constexpr DomainBlock launch{"retreat-launch", 50, 15};
 inline constexpr DomainBlock security{"DDS Security", 65, 8};
 inline constexpr DomainBlock faults{"faults", 73, 7};
-inline constexpr DomainBlock agent_program{"agent program (80.. Fast DDS, 85.. Cyclone DDS)", 80, 9};
+inline constexpr DomainBlock agent_program{"agent program, Fast DDS", 80, 4};
+inline constexpr DomainBlock recording{"recorded runs (retreat-record), one after another; also deploy/bench/record_overhead.sh", 84, 1};
+inline constexpr DomainBlock agent_program_cyclonedds{"agent program, Cyclone DDS", 85, 4};
 inline constexpr DomainBlock experiment{"retreat-experiment", 89, 1};
 inline constexpr DomainBlock robot_link_fastdds{"robot link, Fast DDS", 90, 5};
 inline constexpr DomainBlock mixed_swarm{"mixed real-and-simulated swarm", 95, 3};
@@ -55,7 +57,8 @@ inline constexpr DomainBlock multihost{"several hosts (network namespaces)", 150
 
 inline constexpr std::array all{robot_link_cyclonedds, pingpong_bench, arena_program, dds_profile_files,
                                 contract,              launch_plans,   cross_vendor,   dds_profiles,  launch,
-                                security,              faults,         agent_program, experiment,
+                                security,              faults,         agent_program, recording,
+                                agent_program_cyclonedds, experiment,
                                 robot_link_fastdds,    mixed_swarm,    bridge,        launch_star,
                                 multihost};
 

@@ -64,6 +64,10 @@ struct RunParams {
   /// changes or its plan ends (event-driven lockstep; docs/protocol.md §6). Same trajectory.
   bool plans = false;
   std::uint32_t plan_horizon = 500;  ///< ticks a plan covers at most, 1..1,000,000
+  /// Recorders (retreat-record) the arena and every agent wait for, up to run.startup_timeout,
+  /// before their robot's traffic begins, so that a recording holds every sample; 0..8.
+  /// `retreat-launch --record` sets it to 1. The trajectory does not depend on it.
+  std::uint32_t recorders = 0;
 
   template <class Archive>
   void serialize(Archive& a) {
@@ -76,6 +80,7 @@ struct RunParams {
     a("telemetry_period", telemetry_period);
     a("plans", plans);
     a("plan_horizon", plan_horizon);
+    a("recorders", recorders);
   }
 };
 
