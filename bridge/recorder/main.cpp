@@ -12,13 +12,13 @@
 // recorder fell behind and dropped samples (counted on stderr and in the file); 2 bad input at
 // start-up; 1 middleware or file failure.
 
-#include <CLI/CLI.hpp>
 #include <chrono>
 #include <cstdio>
 #include <iostream>
 #include <optional>
 #include <string>
 
+#include "retreat/recorder/command_line.hpp"
 #include "retreat/recorder/recorder.hpp"
 #include "retreat/scenario/json.hpp"
 #include "retreat/scenario/program_options.hpp"
@@ -35,34 +35,6 @@ namespace {
 using namespace retreat;
 constexpr const char* program = "retreat-record";
 
-struct RecordCommandLine {
-  scenario::Scenario scenario;
-  std::string out;
-  bool print_config = false;
-};
-
-std::variant<RecordCommandLine, int> parse(int argc, char** argv) {
-  CLI::App app{"retreat-record: records a swarm's DDS traffic (every topic, CDR bytes as on the "
-               "wire) into an MCAP file"};
-  scenario::CommonOptions common;
-  RecordCommandLine out;
-  scenario::add_common_options(app, common);
-  app.add_option("--out", out.out, "the MCAP file to write (created or truncated)")->required();
-  if (const auto code = scenario::parse_command_line(app, argc, argv, program)) return *code;
-  return scenario::guarded(program, [&]() -> std::variant<RecordCommandLine, int> {
-    out.scenario = scenario::load_scenario(common);
-    out.print_config = common.print_config;
-    if (out.scenario.dds.vendor == scenario::Vendor::inmemory) {
-      throw scenario::ConfigError("dds.vendor = inmemory: a recorder reads DDS traffic (fastdds or cyclonedds)");
-    }
-    if (out.scenario.dds.security == scenario::Security::on) {
-      throw scenario::ConfigError(
-          "dds.security = on: the swarm's PKI has no recorder identity yet (docs/recording.md)");
-    }
-    return out;
-  });
-}
-
 std::int64_t now_ns() {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(
              std::chrono::system_clock::now().time_since_epoch())
@@ -72,9 +44,10 @@ std::int64_t now_ns() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const auto parsed = scenario::parse_or_report(program, [&] { return parse(argc, argv); });
+  const auto parsed =
+      scenario::parse_or_report(program, [&] { return recorder::parse_command_line(argc, argv); });
   if (const auto* code = std::get_if<int>(&parsed)) return *code;
-  const auto& command_line = std::get<RecordCommandLine>(parsed);
+  const auto& command_line = std::get<recorder::RecordCommandLine>(parsed);
   const auto& s = command_line.scenario;
   if (command_line.print_config) {
     std::cout << scenario::dump(s);
