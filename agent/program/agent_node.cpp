@@ -21,11 +21,6 @@ constexpr std::chrono::milliseconds reader_check_period{1000};
 /// ... and at most every this many spins (one spin per frame or wait).
 constexpr std::uint64_t reader_check_spins = 16;
 
-/// The decisions' and plans' QoS: deeper with run.recorders (transport::QosIntent).
-transport::QosIntent answers_qos(const scenario::Scenario& scenario) {
-  return scenario.run.recorders > 0 ? transport::QosIntent::recorded_answers() : transport::QosIntent::answers();
-}
-
 Observation to_observation(const wire::ProximityFrame& f) {
   return {f.tick, f.time, static_cast<RobotPhase>(f.phase), f.in_contact, f.new_onsets, f.robot_id};
 }
@@ -53,15 +48,17 @@ AgentNode::AgentNode(const scenario::Scenario& scenario, std::uint32_t robot_id,
       frames_(recorders_ == 0 ? std::make_optional(transport.create_reader<wire::ProximityFrame>(frames_topic_))
                               : std::nullopt),
       decisions_(transport.create_writer<wire::Decision>(
-          {wire::decision_topic(scenario.dds.prefix, robot_id), answers_qos(scenario)})),
+          {wire::decision_topic(scenario.dds.prefix, robot_id),
+           transport::QosIntent::answers().kept_for_recorders(recorders_)})),
       clock_(scenario::frame_clock(scenario)),
       plan_horizon_(scenario.run.plan_horizon),
       statuses_(transport.create_writer<wire::AgentStatus>(
           {wire::agent_status_topic(scenario.dds.prefix),
-           scenario.run.recorders > 0 ? transport::QosIntent::recorded_state() : transport::QosIntent::state()})) {
+           transport::QosIntent::state().kept_for_recorders(recorders_)})) {
   if (scenario.run.plans) {
     plans_.emplace(transport.create_writer<wire::Decision>(
-        {wire::plan_topic(scenario.dds.prefix, robot_id), answers_qos(scenario)}));
+        {wire::plan_topic(scenario.dds.prefix, robot_id),
+         transport::QosIntent::answers().kept_for_recorders(recorders_)}));
   }
   open_frames();
   if (journal_path.empty()) return;
@@ -103,7 +100,7 @@ bool AgentNode::open_frames() {
   if (frames_) return true;
   // run.recorders: the frames reader opens once the recorders read every writer of ours, so that
   // the arena, which waits for it before tick 0, starts only when nothing we write can be missed.
-  if (!recorders_matched(recorders_)) {
+  if (!recorders_matched()) {
     if (std::chrono::steady_clock::now() < recorders_deadline_) return false;
     std::fprintf(stderr, "retreat-agent robot %u: run.recorders = %u not matched within "
                  "run.startup_timeout; a recording may miss this robot's first samples\n",
@@ -113,10 +110,10 @@ bool AgentNode::open_frames() {
   return true;
 }
 
-bool AgentNode::recorders_matched(std::uint32_t wanted) const {
-  if (wanted == 0) return true;
+bool AgentNode::recorders_matched() const {
+  if (recorders_ == 0) return true;
   const auto recorders = transport::participants_announcing(transport_, wire::recorder_user_data);
-  return recorders.size() >= wanted && transport::matched_with_all(decisions_.matched(), recorders) &&
+  return recorders.size() >= recorders_ && transport::matched_with_all(decisions_.matched(), recorders) &&
          transport::matched_with_all(statuses_.matched(), recorders) &&
          (!plans_ || transport::matched_with_all(plans_->matched(), recorders));
 }

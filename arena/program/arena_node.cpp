@@ -48,11 +48,6 @@ namespace {
 
 wire::Phase to_wire(physics::Phase p) { return static_cast<wire::Phase>(static_cast<std::uint8_t>(p)); }
 
-/// The QoS of the observers' topics this process writes: deeper with run.recorders.
-transport::QosIntent state_qos(const scenario::Scenario& scenario) {
-  return scenario.run.recorders > 0 ? transport::QosIntent::recorded_state() : transport::QosIntent::state();
-}
-
 }  // namespace
 
 wire::ArenaTelemetry telemetry_message(const physics::Telemetry& t, std::uint32_t lost_agents,
@@ -80,8 +75,11 @@ ArenaNode::ArenaNode(const scenario::Scenario& scenario, transport::Transport& t
       world_(physics::make_world(scenario.arena)),
       sensor_{scenario.arena.missed_onsets, scenario.arena.false_onsets, scenario.arena.tick_dt},
       telemetry_(transport.create_writer<wire::ArenaTelemetry>(
-          {wire::arena_telemetry_topic(scenario.dds.prefix), state_qos(scenario)})),
-      poses_(transport.create_writer<wire::Poses>({wire::poses_topic(scenario.dds.prefix), state_qos(scenario)})) {
+          {wire::arena_telemetry_topic(scenario.dds.prefix),
+           transport::QosIntent::state().kept_for_recorders(scenario.run.recorders)})),
+      poses_(transport.create_writer<wire::Poses>(
+          {wire::poses_topic(scenario.dds.prefix),
+           transport::QosIntent::state().kept_for_recorders(scenario.run.recorders)})) {
   for (const auto& f : world_->frames()) robot(f.id);
 }
 

@@ -12,8 +12,6 @@
 #include <mutex>
 #include <sstream>
 #include <stdexcept>
-#include <tuple>
-#include <utility>
 
 #include "cyclonedds_convert.hpp"
 
@@ -220,48 +218,62 @@ class CycloneWriterPort final : public detail::WriterPort {
   dds_entity_t writer_ = 0;
 };
 
-/// Creates the topic and a reader of it with @p listener (deleted here, whatever happens);
-/// throws one line if Cyclone refuses either. Returns {topic, reader}.
-std::pair<dds_entity_t, dds_entity_t> open_reader(dds_entity_t participant, const dds_topic_descriptor_t* desc,
-                                                  const std::string& name, const QosIntent& intent,
-                                                  dds_listener_t* listener) {
-  const dds_entity_t topic = dds_create_topic(participant, desc, name.c_str(), nullptr, nullptr);
-  if (topic < 0) {
+/// A topic and a reader of it with a listener, created together and deleted together: the
+/// listener is detached first, so that no callback reaches a port being destroyed. A port
+/// declares it last, so that it goes before the inbox and the lock its callbacks use.
+class ReaderEntities {
+ public:
+  /// Takes @p listener (deleted here, whatever happens); throws one line if Cyclone refuses the
+  /// topic or the reader.
+  ReaderEntities(dds_entity_t participant, const dds_topic_descriptor_t* desc, const std::string& name,
+                 const QosIntent& intent, dds_listener_t* listener) {
+    topic_ = dds_create_topic(participant, desc, name.c_str(), nullptr, nullptr);
+    if (topic_ < 0) {
+      dds_delete_listener(listener);
+      throw std::runtime_error(fail("create topic '" + name + "'", topic_));
+    }
+    Qos qos(intent);
+    reader_ = dds_create_reader(participant, topic_, qos.get(), listener);
     dds_delete_listener(listener);
-    throw std::runtime_error(fail("create topic '" + name + "'", topic));
+    if (reader_ < 0) {
+      dds_delete(topic_);
+      throw std::runtime_error(fail("create reader on '" + name + "'", reader_));
+    }
   }
-  Qos qos(intent);
-  const dds_entity_t reader = dds_create_reader(participant, topic, qos.get(), listener);
-  dds_delete_listener(listener);
-  if (reader < 0) {
-    dds_delete(topic);
-    throw std::runtime_error(fail("create reader on '" + name + "'", reader));
+  ~ReaderEntities() {
+    dds_set_listener(reader_, nullptr);
+    dds_delete(reader_);
+    dds_delete(topic_);
   }
-  return {topic, reader};
-}
+  ReaderEntities(const ReaderEntities&) = delete;
+  ReaderEntities& operator=(const ReaderEntities&) = delete;
+  dds_entity_t reader() const { return reader_; }
+  std::vector<RemoteEndpoint> matched() const {
+    return matched_of(reader_, &dds_get_matched_publications, &dds_get_matched_publication_data);
+  }
+
+ private:
+  dds_entity_t topic_ = 0;
+  dds_entity_t reader_ = 0;
+};
 
 template <class T>
 class CycloneReaderPort final : public detail::ReaderPort {
  public:
   CycloneReaderPort(dds_entity_t participant, const std::string& topic, const QosIntent& intent,
                     std::shared_ptr<Inbox> inbox)
-      : inbox_(std::move(inbox)) {
-    dds_listener_t* listener = dds_create_listener(this);
-    dds_lset_data_available(listener, &CycloneReaderPort::on_data_available);
-    std::tie(topic_, reader_) = open_reader(participant, T::desc(), topic, intent, listener);
+      : inbox_(std::move(inbox)), entities_(participant, T::desc(), topic, intent, listener_for(this)) {
     // Samples that arrived before the listener was attached (transient-local replay).
-    drain(reader_);
+    drain(entities_.reader());
   }
-  ~CycloneReaderPort() override {
-    dds_set_listener(reader_, nullptr);
-    dds_delete(reader_);
-    dds_delete(topic_);
-  }
-  std::vector<RemoteEndpoint> matched() const override {
-    return matched_of(reader_, &dds_get_matched_publications, &dds_get_matched_publication_data);
-  }
+  std::vector<RemoteEndpoint> matched() const override { return entities_.matched(); }
 
  private:
+  static dds_listener_t* listener_for(CycloneReaderPort* self) {
+    dds_listener_t* listener = dds_create_listener(self);
+    dds_lset_data_available(listener, &CycloneReaderPort::on_data_available);
+    return listener;
+  }
   static void on_data_available(dds_entity_t reader, void* self) {
     static_cast<CycloneReaderPort*>(self)->drain(reader);
   }
@@ -289,8 +301,7 @@ class CycloneReaderPort final : public detail::ReaderPort {
 
   std::shared_ptr<Inbox> inbox_;
   std::mutex drain_mutex_;
-  dds_entity_t topic_ = 0;
-  dds_entity_t reader_ = 0;
+  ReaderEntities entities_;  // last: deleted first
 };
 
 /// Keeps each sample's serialized form (dds_takecdr): the bytes as received, header included.
@@ -299,23 +310,18 @@ class CycloneRawReaderPort final : public detail::ReaderPort {
   CycloneRawReaderPort(dds_entity_t participant, const dds_topic_descriptor_t* desc,
                        const std::string& topic, const QosIntent& intent,
                        std::shared_ptr<RawInbox> inbox)
-      : inbox_(std::move(inbox)) {
-    dds_listener_t* listener = dds_create_listener(this);
-    dds_lset_data_available(listener, &CycloneRawReaderPort::on_data_available);
-    dds_lset_sample_lost(listener, &CycloneRawReaderPort::on_sample_lost);
-    std::tie(topic_, reader_) = open_reader(participant, desc, topic, intent, listener);
-    drain(reader_);
+      : inbox_(std::move(inbox)), entities_(participant, desc, topic, intent, listener_for(this)) {
+    drain(entities_.reader());
   }
-  ~CycloneRawReaderPort() override {
-    dds_set_listener(reader_, nullptr);
-    dds_delete(reader_);
-    dds_delete(topic_);
-  }
-  std::vector<RemoteEndpoint> matched() const override {
-    return matched_of(reader_, &dds_get_matched_publications, &dds_get_matched_publication_data);
-  }
+  std::vector<RemoteEndpoint> matched() const override { return entities_.matched(); }
 
  private:
+  static dds_listener_t* listener_for(CycloneRawReaderPort* self) {
+    dds_listener_t* listener = dds_create_listener(self);
+    dds_lset_data_available(listener, &CycloneRawReaderPort::on_data_available);
+    dds_lset_sample_lost(listener, &CycloneRawReaderPort::on_sample_lost);
+    return listener;
+  }
   /// Samples the writer no longer had when this reader asked for them again: lost, and counted.
   static void on_sample_lost(dds_entity_t, const dds_sample_lost_status_t status, void* self) {
     auto& inbox = *static_cast<CycloneRawReaderPort*>(self)->inbox_;
@@ -352,8 +358,7 @@ class CycloneRawReaderPort final : public detail::ReaderPort {
 
   std::shared_ptr<RawInbox> inbox_;
   std::mutex drain_mutex_;
-  dds_entity_t topic_ = 0;
-  dds_entity_t reader_ = 0;
+  ReaderEntities entities_;  // last: deleted first
 };
 
 class CycloneTransport final : public Transport {

@@ -56,11 +56,6 @@ class AgentNode {
   /// matched, or a participant announcing `retreat:arena` was discovered (an endless queue's
   /// spare agent waits for a robot the arena has not made yet). Checked at most once a second.
   bool arena_seen();
-  /// Whether @p wanted recorders (run.recorders) are in discovery and each is matched with every
-  /// writer of this agent (decisions, plans, status): until then, what the agent writes could
-  /// be missing from a recording, and the agent does not open its frames reader (so the arena,
-  /// which waits for that reader, does not start).
-  bool recorders_matched(std::uint32_t wanted) const;
 
   /// Waits until the arena acknowledged everything sent, up to `timeout`.
   void flush(std::chrono::nanoseconds timeout);
@@ -84,6 +79,11 @@ class AgentNode {
   void publish_status(std::int64_t tick, double time);
   /// Notices a new arena incarnation: a participant not seen before reading our decisions.
   void watch_decision_readers();
+  /// Whether run.recorders recorders are in discovery and each is matched with every writer of
+  /// this agent (decisions, plans, status): until then, what the agent writes could be missing
+  /// from a recording, and the agent does not open its frames reader (so the arena, which waits
+  /// for that reader, does not start).
+  bool recorders_matched() const;
   /// Opens the frames reader unless run.recorders are still to match (until run.startup_timeout).
   bool open_frames();
 

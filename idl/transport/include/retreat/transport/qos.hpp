@@ -37,21 +37,20 @@ struct QosIntent {
   /// Reliable, transient-local, keep last 1 per instance: status, telemetry, poses; a late joiner
   /// receives the newest sample of every instance.
   static constexpr QosIntent state() { return {Reliability::reliable, Durability::transient_local, 1}; }
-  /// state() for a writer whose samples a recorder must all get (run.recorders): keep the last
-  /// `recorded_state_depth` per instance, so that a sample is not replaced before a recorder that
-  /// keeps up has acknowledged it (keep-last-1 was seen to lose 0.5 % of the telemetry to a Fast
-  /// DDS recorder). History is not a request/offered QoS: readers and the wire are unchanged; a
-  /// late joiner gets up to that many samples per instance instead of one.
-  static constexpr QosIntent recorded_state() {
-    return {Reliability::reliable, Durability::transient_local, recorded_state_depth};
+  /// This intent for a writer whose every sample @p recorders recorders must get (run.recorders):
+  /// a keep-last writer then keeps the last `recorded_depth` per instance, so that a sample is not
+  /// replaced before a recorder that keeps up has acknowledged it (keep-last-1 was seen to lose
+  /// 0.5 % of the telemetry to a Fast DDS recorder). History is not a request/offered QoS: readers
+  /// and the wire are unchanged; a late joiner of state() gets up to that many samples per
+  /// instance instead of one, and a dead reader of answers() may hold more of them (Cyclone DDS
+  /// throttles a writer above its high-water mark until the reader's lease ends). Unchanged
+  /// without recorders, and for keep-all.
+  constexpr QosIntent kept_for_recorders(std::uint32_t recorders) const {
+    QosIntent kept = *this;
+    if (recorders > 0 && depth != 0 && depth < recorded_depth) kept.depth = recorded_depth;
+    return kept;
   }
-  static constexpr std::uint32_t recorded_state_depth = 1024;
-  /// answers() for an agent whose answers a recorder must all get (run.recorders): keep the last
-  /// `recorded_state_depth`, for the same reason. A dead reader may then hold more of them
-  /// (Cyclone DDS throttles a writer above its high-water mark until the reader's lease ends).
-  static constexpr QosIntent recorded_answers() {
-    return {Reliability::reliable, Durability::volatile_data, recorded_state_depth};
-  }
+  static constexpr std::uint32_t recorded_depth = 1024;
   bool operator==(const QosIntent&) const = default;
 };
 
