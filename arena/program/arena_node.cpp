@@ -436,11 +436,13 @@ void ArenaNode::advance(const RetreatJournal* journal) {
     }
     const bool retreat = r.retreat && f.phase == physics::Phase::inside;
     hash_.add(current, f.id, static_cast<std::uint8_t>(f.phase), r.retreat);
+    if (recorder_ != nullptr) recorder_->record_state(current, f.id, static_cast<std::uint8_t>(f.phase), r.retreat);
     if (retreat && !r.commanded) {
       if (world_->command_retreat(f.id) == physics::CommandVerdict::accepted) ++counters_.applied;
       r.commanded = true;
     }
   }
+  if (recorder_ != nullptr) recorder_->record_link(current, hash_.link());
   world_->step_tick();
   // Endless queue: new robots appear (ids are dense: the last one gives every one before it).
   if (const auto count = world_->robot_count(); count > 0) robot(static_cast<std::uint32_t>(count - 1));

@@ -22,6 +22,7 @@ namespace retreat::arena {
 namespace {
 
 constexpr std::size_t pending_limit = 64 * 1024;
+constexpr char chain_magic[8] = {'R', 'T', 'C', 'H', 'A', 'I', 'N', '1'};
 
 }  // namespace
 
@@ -57,6 +58,22 @@ void TrajectoryHash::add(std::int64_t tick, std::uint32_t robot, std::uint8_t ph
   if (state.used + sizeof record > pending_limit) state.flush();
   std::memcpy(state.pending.data() + state.used, record, sizeof record);
   state.used += sizeof record;
+}
+
+std::uint64_t TrajectoryHash::link() {
+  auto& state = *state_;
+  state.flush();
+  EVP_MD_CTX* copy = EVP_MD_CTX_new();
+  unsigned char digest[EVP_MAX_MD_SIZE];
+  unsigned int size = 0;
+  if (copy == nullptr || EVP_MD_CTX_copy_ex(copy, state.ctx) != 1 || EVP_DigestFinal_ex(copy, digest, &size) != 1) {
+    EVP_MD_CTX_free(copy);
+    throw std::runtime_error("OpenSSL: cannot copy a SHA-256 state");
+  }
+  EVP_MD_CTX_free(copy);
+  std::uint64_t link = 0;
+  for (int i = 0; i < 8; ++i) link |= static_cast<std::uint64_t>(digest[i]) << (8 * i);
+  return link;
 }
 
 std::string TrajectoryHash::finish() {
@@ -120,6 +137,13 @@ RunRecorder::RunRecorder(const std::string& dir, const scenario::Scenario& scena
   }
   retreats_.open(dir_ + "/retreats.csv", fresh ? std::ios::out | std::ios::trunc : mode);
   if (fresh) retreats_ << "tick,robot\n" << std::flush;
+  // The hash chain and the transitions are rewritten whole: a resumed arena replays every tick
+  // before it takes over, and records them again.
+  chain_.open(dir_ + "/chain.bin", std::ios::out | std::ios::trunc | std::ios::binary);
+  chain_.write(chain_magic, sizeof chain_magic);
+  transitions_.open(dir_ + "/transitions.csv", std::ios::out | std::ios::trunc);
+  transitions_ << "tick,robot,phase,retreat\n";
+  if (!chain_ || !transitions_) throw std::runtime_error("--out '" + dir_ + "': cannot write chain.bin and transitions.csv");
   if (scenario.arena.record_encounters) {
     encounters_.open(dir_ + "/encounters.csv", fresh ? std::ios::out | std::ios::trunc : mode);
     if (fresh) encounters_ << "robot,other,onset_time,end_time\n";
@@ -128,6 +152,34 @@ RunRecorder::RunRecorder(const std::string& dir, const scenario::Scenario& scena
 
 void RunRecorder::record_retreat(std::int64_t tick, std::uint32_t robot) {
   retreats_ << tick << ',' << robot << '\n' << std::flush;
+}
+
+void RunRecorder::record_state(std::int64_t tick, std::uint32_t robot, std::uint8_t phase, bool retreat) {
+  if (robot >= last_state_.size()) last_state_.resize(robot + 1, 0xFFFF);
+  const auto state = static_cast<std::uint16_t>(phase | (retreat ? 1U << 8 : 0U));
+  if (last_state_[robot] == state) return;
+  last_state_[robot] = state;
+  char row[64];
+  char* at = std::to_chars(row, row + 40, tick).ptr;
+  *at++ = ',';
+  at = std::to_chars(at, row + 52, robot).ptr;
+  *at++ = ',';
+  *at++ = static_cast<char>('0' + phase % 10);
+  *at++ = ',';
+  *at++ = retreat ? '1' : '0';
+  *at++ = '\n';
+  transitions_.write(row, at - row);
+}
+
+void RunRecorder::record_link(std::int64_t tick, std::uint64_t link) {
+  if (tick != next_link_tick_) {
+    throw std::logic_error("chain.bin: the link of tick " + std::to_string(tick) + " after tick " +
+                           std::to_string(next_link_tick_ - 1));
+  }
+  ++next_link_tick_;
+  char bytes[8];
+  for (int i = 0; i < 8; ++i) bytes[i] = static_cast<char>(link >> (8 * i));
+  chain_.write(bytes, sizeof bytes);
 }
 
 void RunRecorder::record_tick(const physics::Telemetry& t, bool write) {
@@ -160,7 +212,11 @@ void RunRecorder::record_tick(const physics::Telemetry& t, bool write) {
   for (const auto n : t.state_counts) cell(n);
   *at++ = '\n';
   telemetry_.write(row, static_cast<std::streamsize>(at - row));
-  if (flush_each_tick_) telemetry_.flush();  // a killed arena leaves every tick it stepped (--resume)
+  if (flush_each_tick_) {
+    chain_.flush();
+    transitions_.flush();
+    telemetry_.flush();  // a killed arena leaves every tick it stepped (--resume)
+  }
 }
 
 void RunRecorder::record_contacts(const std::vector<physics::ContactRecord>& records) {
@@ -173,6 +229,8 @@ void RunRecorder::record_contacts(const std::vector<physics::ContactRecord>& rec
 void RunRecorder::finish(const physics::World& world, const std::vector<AgentRecord>& agents,
                          const RunSummary& summary) {
   telemetry_.flush();
+  chain_.flush();
+  transitions_.flush();
   if (encounters_.is_open()) encounters_.flush();
   {
     std::ofstream out(dir_ + "/agents.csv");

@@ -9,6 +9,9 @@
 //         With --out DIR: DIR/agent_status.csv (every status received) and DIR/report.html, when
 //         the arena's summary.json appears and again on SIGINT/SIGTERM.
 //
+// retreat-bridge --replay FILE serves the same dashboard for a recording (retreat-record's), with
+// a time slider (/api/replay), and joins no DDS.
+//
 // retreat-bridge --report DIR writes DIR/report.html for a finished run directory (or one with
 // seed_<n>/ run directories) and exits.
 //
@@ -33,7 +36,9 @@
 #include "retreat/bridge/live_state.hpp"
 #include "retreat/bridge/receiver.hpp"
 #include "retreat/bridge/server.hpp"
+#include "retreat/bridge/replay_player.hpp"
 #include "retreat/core/paths.hpp"
+#include "retreat/replay/recording.hpp"
 #include "retreat/report/report.hpp"
 #include "retreat/report/run_info.hpp"
 #include "retreat/scenario/program_options.hpp"
@@ -207,6 +212,64 @@ int serve(const bridge::BridgeCommandLine& command_line) {
   return 0;
 }
 
+/// --replay FILE: serves the dashboard of a recording, moved by /api/replay, until SIGINT or
+/// SIGTERM; returns the exit code.
+int serve_replay(const bridge::BridgeCommandLine& command_line) {
+  sigset_t stop_signals = block_stop_signals();
+  replay::Recording recording;
+  try {
+    recording = replay::load_recording(command_line.replay);
+  } catch (const replay::RecordingError& e) {
+    return fail(2, std::string("--replay: ") + e.what());
+  }
+  const auto& s = recording.scenario;
+  bridge::LiveState state{telemetry::Aggregator(report::run_info(s))};
+  const auto samples = [](const auto& recorded) {
+    std::vector<std::decay_t<decltype(recorded.front().sample)>> out;
+    out.reserve(recorded.size());
+    for (const auto& r : recorded) out.push_back(r.sample);
+    return out;
+  };
+  std::optional<bridge::ReplayPlayer> player;
+  try {
+    player.emplace(state, report::run_info(s), samples(recording.telemetry), samples(recording.poses),
+                   samples(recording.statuses));
+  } catch (const std::invalid_argument& e) {
+    return fail(2, "--replay '" + command_line.replay + "': " + e.what());
+  }
+  bridge::ServerOptions options;
+  options.replay = &*player;
+  bridge::Server server(state, options);
+  int port = 0;
+  try {
+    port = server.bind(command_line.address);
+  } catch (const std::exception& e) {
+    return fail(2, command_line.address_origin + " " + e.what());
+  }
+  std::atomic<bool> stop{false};
+  std::thread playing([&] {
+    while (!stop.load()) {
+      player->advance(std::chrono::steady_clock::now());
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+  });
+  std::thread serving([&] { server.serve(); });
+  const auto p = player->position();
+  std::printf("retreat-bridge: serving http://%s:%d/\n", command_line.address.host.c_str(), port);
+  std::fflush(stdout);
+  std::fprintf(stderr, "retreat-bridge: replaying %s (%s, ticks %lld..%lld, %zu telemetry samples)\n",
+               command_line.replay.c_str(), s.name.c_str(), static_cast<long long>(p.first_tick),
+               static_cast<long long>(p.last_tick), recording.telemetry.size());
+  int signo = 0;
+  sigwait(&stop_signals, &signo);
+  std::fprintf(stderr, "retreat-bridge: stopping (signal %d)\n", signo);
+  stop.store(true);
+  server.stop();
+  serving.join();
+  playing.join();
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -215,6 +278,7 @@ int main(int argc, char** argv) {
   if (const auto* code = std::get_if<int>(&parsed)) return *code;
   const auto& command_line = std::get<bridge::BridgeCommandLine>(parsed);
   if (!command_line.report_dir.empty()) return write_report_only(command_line.report_dir);
+  if (!command_line.replay.empty()) return serve_replay(command_line);
   if (command_line.print_config) {
     std::cout << scenario::dump(command_line.scenario);
     return 0;

@@ -78,6 +78,7 @@ int main(int argc, char** argv) {
     options.robots = s.arena.robots_inside + s.arena.robots_waiting;
     options.plans = s.run.plans;
     options.external_robots = s.arena.external_robots;
+    options.scene = s.arena;
     recorder::Recorder recorder(*transport, mcap, options);
     std::fprintf(stderr, "retreat-record: recording domain %d (%s) into %s\n", s.dds.domain,
                  vendor.c_str(), command_line.out.c_str());
@@ -90,9 +91,10 @@ int main(int argc, char** argv) {
 
     const auto dropped = recorder.overflowed();
     mcap.add_metadata("retreat.recorder",
-                      {{"messages", std::to_string(recorder.messages())},
+                      {{"messages", std::to_string(mcap.message_count())},
                        {"dropped", std::to_string(dropped)},
-                       {"robots_covered", std::to_string(recorder.robots_covered())}});
+                       {"robots_covered", std::to_string(recorder.robots_covered())},
+                       {"scene_updates", std::to_string(recorder.scene_updates())}});
     mcap.close();
     std::fprintf(stderr, "retreat-record: %llu messages on %zu topics into %s; dropped %llu%s\n",
                  static_cast<unsigned long long>(recorder.messages()), recorder.counts().size(),

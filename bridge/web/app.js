@@ -14,7 +14,8 @@
   const fmtInt = (v) => (num(v) ? Math.round(v).toLocaleString('en-US') : '–');
 
   // What tests and people can inspect: how many states arrived, how often the arena was drawn.
-  const probe = { states: 0, time: -1, arenaFrames: 0, arenaTick: -1, robotsDrawn: 0, points: 0, historyLoads: 0 };
+  const probe = { states: 0, time: -1, arenaFrames: 0, arenaTick: -1, robotsDrawn: 0, points: 0, historyLoads: 0,
+                  replay: null };
   window.retreatDashboard = probe;
 
   let state = null;
@@ -453,7 +454,10 @@
     if (firstState) setText('arena-note', s.run.shape === 'ellipse'
       ? `ellipse ${fmt(2 * s.run.half_extent[0], 1)} × ${fmt(2 * s.run.half_extent[1], 1)} m, |D| = ${fmt(s.run.area, 2)} m²`
       : `rectangle ${fmt(2 * s.run.half_extent[0], 1)} × ${fmt(2 * s.run.half_extent[1], 1)} m, |D| = ${fmt(s.run.area, 2)} m²`);
-    if (newRun || (series.compactions !== -1 && s.history.compactions !== series.compactions)) {
+    if (replay) showReplayTick(s);
+    if (newRun || (series.compactions !== -1 && s.history.compactions !== series.compactions) ||
+        (replay && s.history.points !== series.time.length)) {
+      // A replay moves by many points at once, and backwards: the whole series again.
       loadHistory();
     } else if (s.history.last) {
       pushPoint(s.history.last);
@@ -469,7 +473,7 @@
 
   function connect() {
     const source = new EventSource('api/events');
-    source.addEventListener('open', () => setLink('live', 'live'));
+    source.addEventListener('open', () => (replay ? showReplay(replay) : setLink('live', 'live')));
     source.addEventListener('state', (e) => {
       try {
         onState(JSON.parse(e.data));
@@ -480,8 +484,78 @@
     source.addEventListener('error', () => setLink('offline', 'reconnecting'));
   }
 
+  // ---------------------------------------------------------------------------------------------
+  // Replay (retreat-bridge --replay FILE): a slider over the recording's ticks, play and pause.
+
+  let replay = null;  // the position from /api/replay, null when live
+  let dragging = false;
+
+  function showReplay(p) {
+    replay = p;
+    probe.replay = { tick: p.tick, playing: p.playing, first: p.first_tick, last: p.last_tick };
+    const slider = $('replay-slider');
+    slider.min = String(p.first_tick);
+    slider.max = String(p.last_tick);
+    if (!dragging) slider.value = String(p.tick);
+    $('replay-play').textContent = p.playing ? '⏸' : '▶';
+    $('replay-play').setAttribute('aria-label', p.playing ? 'pause' : 'play');
+    setText('replay-position', `tick ${fmtInt(p.tick)} of ${fmtInt(p.last_tick)} · t = ${fmt(p.time, 1)} s`);
+    setLink('replay', p.playing ? 'replay, playing' : 'replay, paused');
+  }
+
+  function showReplayTick(s) {
+    if (!s.telemetry || dragging) return;
+    $('replay-slider').value = String(s.telemetry.tick);
+  }
+
+  async function replayCommand(query) {
+    try {
+      const res = await fetch(`api/replay?${query}`, { method: 'POST', cache: 'no-store' });
+      if (!res.ok) {
+        showError(`replay: ${await res.text()}`);
+        return;
+      }
+      showReplay(await res.json());
+    } catch (e) {
+      setLink('offline', 'bridge unreachable');
+    }
+  }
+
+  async function pollReplay() {
+    try {
+      const res = await fetch('api/replay', { cache: 'no-store' });
+      if (!res.ok) return false;
+      const p = await res.json();
+      if (p.replaying) showReplay(p);
+      return p.replaying === true;
+    } catch (e) {
+      return false;
+    }
+  }
+
+  function setUpReplay() {
+    $('replay').hidden = false;
+    document.querySelector('.brand .muted').textContent = 'replay';
+    document.title = 'retreat · replay';
+    const slider = $('replay-slider');
+    slider.addEventListener('input', () => { dragging = true; });
+    slider.addEventListener('change', async () => {
+      dragging = false;
+      await replayCommand(`tick=${encodeURIComponent(slider.value)}`);
+    });
+    $('replay-play').addEventListener('click', () => {
+      if (replay && replay.playing) replayCommand('play=0');
+      else replayCommand(`play=1&speed=${encodeURIComponent($('replay-speed').value)}`);
+    });
+    $('replay-speed').addEventListener('change', () => {
+      if (replay && replay.playing) replayCommand(`play=1&speed=${encodeURIComponent($('replay-speed').value)}`);
+    });
+    setInterval(pollReplay, 500);
+  }
+
   setInterval(() => {
     const el = $('link');
+    if (replay) return;  // showReplay says where the replay is
     if (el.dataset.state === 'offline' || el.dataset.state === 'connecting') return;
     if (Date.now() - lastEventAt > 3000) {
       setLink('idle', state && state.telemetry ? 'no new data' : 'waiting for the arena');
@@ -526,6 +600,7 @@
 
   async function start() {
     makePopulationPlot();
+    if (await pollReplay()) setUpReplay();
     try {
       const res = await fetch('api/state', { cache: 'no-store' });
       if (res.ok) onState(await res.json());

@@ -23,6 +23,9 @@ bench_parse() {
       --domain) domain=$2; shift 2 ;;
       --out) out=$2; shift 2 ;;
       --launcher) launcher=$2; shift 2 ;;
+      --repeat)  # only a script that sets `repeat` takes it
+        [ -n "${repeat+set}" ] || { echo "$bench_name: unknown argument '$1' (see --help)" >&2; exit 2; }
+        repeat=$2; shift 2 ;;
       -h|--help) bench_usage; exit 0 ;;
       *)
         taken=0
@@ -33,12 +36,18 @@ bench_parse() {
   done
 }
 
-# Checks the launcher, makes the output directory (a new one under /tmp unless --out) and an
-# empty DIR/results.txt.
+# Checks the launcher and --repeat (when the script takes it: it sets `repeat` first), makes the
+# output directory (a new one under /tmp unless --out) and an empty DIR/results.txt.
 bench_prepare() {
   [ -x "$launcher" ] || { echo "$bench_name: no retreat-launch at '$launcher' (--launcher PATH)" >&2; exit 2; }
+  if [ -n "${repeat+set}" ] && ! [[ $repeat =~ ^[1-9][0-9]*$ ]]; then
+    echo "$bench_name: --repeat '$repeat': must be a whole number >= 1" >&2; exit 2
+  fi
   out=${out:-$(mktemp -d "/tmp/$1.XXXXXX")}
   mkdir -p "$out"
   results="$out/results.txt"
   : > "$results"
 }
+
+# Prints a line and appends it to DIR/results.txt.
+say() { echo "$*" | tee -a "$results"; }

@@ -25,12 +25,9 @@ vendors="fastdds cyclonedds"
 duration=400
 repeat=3
 domain=84
-bench_option() { if [ "$1" = --repeat ]; then repeat=$2; taken=2; fi; }
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 bench_parse "$@"
-[[ $repeat =~ ^[1-9][0-9]*$ ]] || { echo "record_overhead.sh: --repeat '$repeat': must be a whole number >= 1" >&2; exit 2; }
 bench_prepare retreat-record-bench
-say() { echo "$*" | tee -a "$results"; }
 
 scenario="$root/deploy/scenarios/robotarium-2019.yaml"
 say "# $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'); robotarium-2019, $duration simulated s"

@@ -23,12 +23,9 @@ vendors="fastdds cyclonedds"
 duration=300
 repeat=3
 domain=151
-bench_option() { if [ "$1" = --repeat ]; then repeat=$2; taken=2; fi; }
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 bench_parse "$@"
-[[ $repeat =~ ^[1-9][0-9]*$ ]] || { echo "security.sh: --repeat '$repeat': must be a whole number >= 1" >&2; exit 2; }
 bench_prepare retreat-security-bench
-say() { echo "$*" | tee -a "$results"; }
 
 "$root/deploy/security/make-swarm-pki.sh" --out "$out/pki" --robots 0-11 >/dev/null
 scenario="$root/deploy/scenarios/robotarium-2019.yaml"

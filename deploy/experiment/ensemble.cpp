@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 
 #include "page.hpp"
@@ -66,6 +67,14 @@ nlohmann::json population_figure(const Ensemble& e, const std::string& id, const
   f["series"][3]["color"] = "#94a3b8";
   f["series"][4]["color"] = "#2a9d4b";
   return f;
+}
+
+void drop_per_tick_files(const Ensemble& e) {
+  for (const auto& run : e.runs) {
+    for (const char* file : {"telemetry.csv", "chain.bin", "transitions.csv"}) {
+      std::filesystem::remove(std::filesystem::path(run.dir) / file);
+    }
+  }
 }
 
 void write_population_rows(CsvWriter& csv, const Ensemble& e) {

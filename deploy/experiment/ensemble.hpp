@@ -39,6 +39,10 @@ Moments over_seeds(const Ensemble& e, double (*value)(const SeedRun&));
 /// A figure: the population's mean and mean ± sd band over seeds against λ*·|D|.
 nlohmann::json population_figure(const Ensemble& e, const std::string& id, const std::string& title);
 
+/// Removes each seed's per-tick files (telemetry.csv, chain.bin, transitions.csv) once the
+/// ensemble has been read from them: a sweep of many runs keeps its summaries, not its ticks.
+void drop_per_tick_files(const Ensemble& e);
+
 /// Appends the population traces of `e` to a CSV (ensemble, time, mean, sd, min, max).
 void write_population_rows(CsvWriter& csv, const Ensemble& e);
 

@@ -8,13 +8,13 @@
 // population over the last half (mean ± sd over seeds) and J over the last half, pooled.
 // Writes:
 //   runs/<scenario>/<noise>/<rule>/          the launcher's run directories, each seed's
-//                                            summary.json (telemetry.csv is removed once read:
-//                                            all of them would take about 25 GB)
+//                                            summary.json (the per-tick files, telemetry.csv,
+//                                            chain.bin and transitions.csv, are removed once
+//                                            read: all of them would take about 25 GB)
 //   results.csv, results.json, results.md, report.html
 
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 
 #include "ensemble.hpp"
 #include "page.hpp"
@@ -61,12 +61,6 @@ struct Row {
   double J = 0.0, optimum = 0.0;
 };
 
-
-/// Each seed's telemetry.csv, once the ensemble has been read from it.
-void drop_telemetry(const Ensemble& e) {
-  for (const auto& r : e.runs) std::filesystem::remove(std::filesystem::path(r.dir) / "telemetry.csv");
-}
-
 }  // namespace
 
 int run_noise(const NoiseOptions& o) {
@@ -98,7 +92,7 @@ int run_noise(const NoiseOptions& o) {
           Row row{c.name, noise.name, rule, corrected, noise.missed, noise.false_rate,
                   over_seeds(e, [](const SeedRun& x) { return x.last_half.mean_population; }),
                   pooled_J(e, s.model.C, true), e.runs.front().optimal_population};
-          drop_telemetry(e);
+          drop_per_tick_files(e);
           std::fprintf(stderr, "retreat-experiment: noise: %s, %s, %s: last half %.2f ± %.2f (optimum %.2f)\n",
                        c.name.c_str(), noise.name.c_str(), label.c_str(), row.population.mean, row.population.sd,
                        row.optimum);

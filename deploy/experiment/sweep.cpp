@@ -5,13 +5,12 @@
 // Per cell and rule, over the last half of the run: the population's mean over seeds against
 // the optimum λ*·|D| as |mean − N*|/N*, and J (pooled over seeds) relative to `paper`'s.
 // Writes:
-//   runs/<cell>/<rule>/   the launcher's run directories, each seed's summary.json (telemetry.csv
-//                         is removed once read)
+//   runs/<cell>/<rule>/   the launcher's run directories, each seed's summary.json (the per-tick
+//                         files are removed once read)
 //   results.csv, results.json, results.md, report.html (the two heat maps and the tables)
 
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 
 #include "ensemble.hpp"
 #include "page.hpp"
@@ -107,7 +106,7 @@ int run_sweep(const SweepOptions& o) {
       const auto e = run_ensemble(o.common.launcher, cell.name + "-" + rule, rule, r, C);
       const auto population = over_seeds(e, [](const SeedRun& x) { return x.last_half.mean_population; });
       row.push_back({population.mean, population.sd, e.runs.front().optimal_population, pooled_J(e, C, true)});
-      for (const auto& run : e.runs) std::filesystem::remove(std::filesystem::path(run.dir) / "telemetry.csv");
+      drop_per_tick_files(e);
       std::fprintf(stderr, "retreat-experiment: sweep: %s, %s: last half %.2f ± %.2f (optimum %.2f)\n",
                    cell.name.c_str(), rule.c_str(), population.mean, population.sd, row.back().optimum);
     }

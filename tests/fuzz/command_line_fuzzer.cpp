@@ -1,5 +1,5 @@
 // libFuzzer target: every program's command line (docs/fuzzing.md). The input is a program name
-// on the first line (agent, arena, bridge, launch, experiment, record) and one argument per further line; the
+// on the first line (agent, arena, bridge, launch, experiment, record, replay, diff) and one argument per further line; the
 // program's own parser (the one its `main` calls) runs on them, which loads and validates the
 // scenario, profile paths and every value, but starts nothing and writes nothing. Any argument
 // vector must end in options or in exit code 0 (--help) or 2 (one line on stderr); any
@@ -20,6 +20,7 @@
 #include "retreat/experiment/command_line.hpp"
 #include "retreat/launch/command_line.hpp"
 #include "retreat/recorder/command_line.hpp"
+#include "retreat/replay/command_line.hpp"
 
 namespace {
 
@@ -39,6 +40,8 @@ int parse(std::string_view program, int argc, char** argv) {
     return exit_code_of(launch::parse_command_line(argc, argv, "/nonexistent"));
   if (program == "experiment") return exit_code_of(experiment::parse_command_line(argc, argv));
   if (program == "record") return exit_code_of(recorder::parse_command_line(argc, argv));
+  if (program == "replay") return exit_code_of(replay::parse_replay_command_line(argc, argv));
+  if (program == "diff") return exit_code_of(replay::parse_diff_command_line(argc, argv));
   return -1;
 }
 

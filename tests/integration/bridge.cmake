@@ -5,7 +5,8 @@
 if(RETREAT_WITH_FASTDDS OR RETREAT_WITH_CYCLONEDDS)
   retreat_test(bridge_test
     SOURCES ${CMAKE_CURRENT_LIST_DIR}/bridge_api_test.cpp ${CMAKE_CURRENT_LIST_DIR}/bridge_input_test.cpp
-      ${CMAKE_CURRENT_LIST_DIR}/bridge_swarm_test.cpp ${CMAKE_CURRENT_LIST_DIR}/bridge_support.cpp
+      ${CMAKE_CURRENT_LIST_DIR}/bridge_swarm_test.cpp ${CMAKE_CURRENT_LIST_DIR}/bridge_replay_test.cpp
+      ${CMAKE_CURRENT_LIST_DIR}/bridge_support.cpp
     DEPS retreat::transports retreat::report retreat::testing nlohmann_json::nlohmann_json PkgConfig::HTTPLIB
     LABELS integration)
   target_include_directories(bridge_test PRIVATE ${PROJECT_SOURCE_DIR}/tests/unit/bridge)
@@ -13,6 +14,7 @@ if(RETREAT_WITH_FASTDDS OR RETREAT_WITH_CYCLONEDDS)
     RETREAT_BRIDGE_BIN="$<TARGET_FILE:retreat-bridge>"
     RETREAT_AGENT_BIN="$<TARGET_FILE:retreat-agent>"
     RETREAT_ARENA_BIN="$<TARGET_FILE:retreat-arena>"
-    RETREAT_TEST_OUTPUT_DIR="${CMAKE_CURRENT_BINARY_DIR}/test-output")
+    RETREAT_TEST_OUTPUT_DIR="${CMAKE_CURRENT_BINARY_DIR}/test-output"
+    RETREAT_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
   add_dependencies(bridge_test retreat-bridge retreat-agent retreat-arena)
 endif()

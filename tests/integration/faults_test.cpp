@@ -229,6 +229,9 @@ TEST(Faults, ALockstepArenaResumedByHandGivesTheUninterruptedTrajectory) {
   EXPECT_EQ(summary["trajectory_sha256"], reference["trajectory_sha256"]);
   EXPECT_EQ(summary["deliveries"], reference["deliveries"]);
   EXPECT_EQ(summary["agents"]["retreated"], reference["agents"]["retreated"]);
+  // The hash chain and the transitions (retreat-diff's input) are the uninterrupted run's.
+  EXPECT_EQ(testing::read_file(out + "/chain.bin"), testing::read_file(dir + "/reference/run/chain.bin"));
+  EXPECT_EQ(testing::read_file(out + "/transitions.csv"), testing::read_file(dir + "/reference/run/transitions.csv"));
   const auto telemetry = lines_of(out + "/telemetry.csv");
   ASSERT_EQ(telemetry.size(), 1u + 6667u);
   for (std::size_t i = 1; i < telemetry.size(); ++i) {
@@ -315,6 +318,8 @@ TEST_P(LauncherResumesLockstep, AnArenaKilledMidRunAndTheRunHasTheUninterruptedT
   EXPECT_EQ(summary["trajectory_sha256"], reference["trajectory_sha256"]);
   EXPECT_EQ(summary["deliveries"], reference["deliveries"]);
   EXPECT_EQ(summary["agents"]["retreated"], reference["agents"]["retreated"]);
+  EXPECT_EQ(testing::read_file(l.out + "/chain.bin"), testing::read_file(dir + "/reference/run/chain.bin"));
+  EXPECT_EQ(testing::read_file(l.out + "/transitions.csv"), testing::read_file(dir + "/reference/run/transitions.csv"));
   expect_every_tick_once(l.out, ticks);
   EXPECT_TRUE(alive(child_pids(after)).empty());
 }

@@ -17,7 +17,10 @@
 //   - every telemetry sample equals telemetry.csv's row of its tick, and the telemetry and the
 //     poses are there for exactly the ticks the arena publishes them (the first tick of each
 //     run.telemetry_period, from telemetry.csv's times), the last one the run's last tick;
-//   - every agent's last status agrees with agents.csv (retreated or not).
+//   - every agent's last status agrees with agents.csv (retreated or not);
+//   - the scene channel (`<prefix>/scene`) names foxglove.SceneUpdate with the JSON Schema of the
+//     npm package @foxglove/schemas, every message on it is valid against that schema (ajv), and
+//     there is one per poses sample, drawing the same robots at the same places.
 // Exits 1 with one line per mismatch (at most 20), 0 with a one-line count.
 //
 //   node check_recording.mjs NODE_MODULES FILE RUN_DIR
@@ -31,6 +34,8 @@ const { McapIndexedReader, McapStreamReader } = require("@mcap/core");
 const { loadDecompressHandlers } = require("@mcap/support");
 const { parseIDL } = require("@foxglove/omgidl-parser");
 const { MessageReader } = require("@foxglove/omgidl-serialization");
+const { SceneUpdate } = require("@foxglove/schemas/jsonschema");
+const Ajv = require("ajv");
 
 let failures = 0;
 function check(ok, what) {
@@ -69,10 +74,20 @@ check(recorder?.get("messages") === String(reader.statistics.messageCount),
       `recorder counted ${recorder?.get("messages")}, statistics ${reader.statistics.messageCount}`);
 
 const decoders = new Map();
+let validateScene = null;
 for (const [id, schema] of reader.schemasById) {
+  const text = new TextDecoder().decode(schema.data);
+  if (schema.name === "foxglove.SceneUpdate") {
+    check(schema.encoding === "jsonschema", `schema ${schema.name}: encoding ${schema.encoding}`);
+    check(JSON.stringify(JSON.parse(text)) === JSON.stringify(SceneUpdate),
+          "the scene schema is not @foxglove/schemas' foxglove.SceneUpdate");
+    validateScene = new Ajv({ strict: false, allErrors: true }).compile(SceneUpdate);
+    continue;
+  }
   check(schema.encoding === "omgidl", `schema ${schema.name}: encoding ${schema.encoding}`);
-  decoders.set(id, new MessageReader(schema.name, parseIDL(new TextDecoder().decode(schema.data))));
+  decoders.set(id, new MessageReader(schema.name, parseIDL(text)));
 }
+check(validateScene !== null, "no foxglove.SceneUpdate schema");
 const prefix = run?.get("prefix") ?? "retreat";
 const perRobot = new RegExp(`^${prefix}/robot_(\\d+)/(proximity|decision|plan|tracked_pose)$`);
 const expectedSchema = { proximity: "retreat::msg::ProximityFrame", decision: "retreat::msg::Decision",
@@ -86,10 +101,33 @@ const robot = (id) => {
 };
 let messages = 0, telemetry = 0, poses = 0, lastTelemetryTick = -1;
 const telemetryTicks = [], posesTicks = [];
+const posesByTick = new Map(), sceneByTick = new Map();  // tick -> robots as "id x y" strings
 for await (const m of reader.readMessages()) {
   messages += 1;
   const channel = reader.channelsById.get(m.channelId);
   const schema = reader.schemasById.get(channel.schemaId);
+  if (channel.topic === `${prefix}/scene`) {
+    check(channel.messageEncoding === "json" && schema.name === "foxglove.SceneUpdate",
+          `${channel.topic}: ${channel.messageEncoding}, schema ${schema.name}`);
+    let update;
+    try {
+      update = JSON.parse(new TextDecoder().decode(m.data));
+    } catch (e) {
+      check(false, `${channel.topic} message ${m.sequence}: not JSON (${e.message})`);
+      continue;
+    }
+    if (validateScene && !validateScene(update)) {
+      check(false, `${channel.topic} message ${m.sequence}: not a valid foxglove.SceneUpdate: ` +
+                   JSON.stringify(validateScene.errors.slice(0, 2)));
+      continue;
+    }
+    const robotsEntity = update.entities.find((e) => e.id === "robots");
+    const tick = Number(robotsEntity?.metadata.find((kv) => kv.key === "tick")?.value);
+    check(update.entities.some((e) => e.id === "domain" && e.lines.length === 1), `scene of tick ${tick}: no domain outline`);
+    sceneByTick.set(tick, (robotsEntity?.cylinders ?? []).map((c, i) =>
+      `${robotsEntity.texts[i]?.text} ${c.pose.position.x} ${c.pose.position.y}`).join(";"));
+    continue;
+  }
   let sample;
   try {
     sample = decoders.get(channel.schemaId).readMessage(m.data);
@@ -134,6 +172,7 @@ for await (const m of reader.readMessages()) {
   } else if (channel.topic === `${prefix}/poses`) {
     poses += 1;
     posesTicks.push(Number(sample.tick));
+    posesByTick.set(Number(sample.tick), sample.robots.map((r) => `${r.robot_id} ${r.x} ${r.y}`).join(";"));
   } else if (channel.topic === `${prefix}/agent_status`) {
     robot(sample.robot_id).lastStatus = sample;
   } else {
@@ -158,6 +197,11 @@ const same = (a, b) => a.length === b.length && a.every((x, i) => x === b[i]);
 check(same(telemetryTicks, expectedTicks),
       `telemetry at ${telemetryTicks.length} ticks, the arena publishes at ${expectedTicks.length}`);
 check(same(posesTicks, expectedTicks), `poses at ${posesTicks.length} ticks, the arena publishes at ${expectedTicks.length}`);
+
+check(sceneByTick.size === posesByTick.size, `${sceneByTick.size} scene updates for ${posesByTick.size} poses samples`);
+for (const [tick, drawn] of posesByTick) {
+  check(sceneByTick.get(tick) === drawn, `the scene of tick ${tick} does not draw the robots of its poses sample`);
+}
 
 let answers = 0, waitedFor = 0, answered = 0;
 for (const [id, a] of agents) {
@@ -194,4 +238,5 @@ if (failures > 0) {
   process.exit(1);
 }
 console.log(`check_recording: ${messages} messages on ${reader.channelsById.size} channels, ` +
-            `${robots.size} robots, ${telemetry} telemetry samples, ${answers} answers: as in ${runDir}`);
+            `${robots.size} robots, ${telemetry} telemetry samples, ${answers} answers, ` +
+            `${sceneByTick.size} valid scene updates: as in ${runDir}`);

@@ -4,6 +4,8 @@
 #include <charconv>
 #include <stdexcept>
 
+#include "retreat/recorder/scene.hpp"
+#include "retreat/transport/factory.hpp"
 #include "retreat/wire/topics.hpp"
 
 namespace retreat::recorder {
@@ -41,6 +43,11 @@ Recorder::Recorder(transport::Transport& transport, recording::McapWriter& mcap,
   const auto& p = options_.prefix;
   add_topic(wire::MessageKind::arena_telemetry, {wire::arena_telemetry_topic(p), keep_all_state});
   add_topic(wire::MessageKind::poses, {wire::poses_topic(p), keep_all_state});
+  if (options_.scene) {
+    topics_.back()->drawn = true;
+    const auto schema = mcap_.add_schema("foxglove.SceneUpdate", "jsonschema", std::string(scene_update_schema()));
+    scene_channel_ = mcap_.add_channel(schema, p + "/scene", "json");
+  }
   add_topic(wire::MessageKind::agent_status, {wire::agent_status_topic(p), keep_all_state});
   cover_robots(options_.robots);
 }
@@ -92,15 +99,24 @@ std::size_t Recorder::poll(std::int64_t log_time_ns) {
     scratch_.clear();
     topic->reader.take(scratch_);
     for (const auto& sample : scratch_) {
-      mcap_.write(topic->channel, topic->sequence++, static_cast<std::uint64_t>(log_time_ns),
-                  static_cast<std::uint64_t>(std::max<std::int64_t>(sample.source_time_ns, 0)),
-                  std::as_bytes(std::span(sample.cdr)));
+      const auto publish_time = static_cast<std::uint64_t>(std::max<std::int64_t>(sample.source_time_ns, 0));
+      const auto bytes = std::as_bytes(std::span(sample.cdr));
+      mcap_.write(topic->channel, topic->sequence++, static_cast<std::uint64_t>(log_time_ns), publish_time, bytes);
+      if (topic->drawn) draw(bytes, static_cast<std::uint64_t>(log_time_ns), publish_time);
     }
     topic->messages += scratch_.size();
     written += scratch_.size();
   }
   messages_ += written;
   return written;
+}
+
+void Recorder::draw(std::span<const std::byte> cdr, std::uint64_t log_time, std::uint64_t publish_time) {
+  const auto decoded = transport::decode_serialized(wire::MessageKind::poses, cdr);
+  if (!decoded || wire::validate(*decoded, std::nullopt) != wire::SampleFault::ok) return;  // kept raw only
+  const auto json = scene_update_json(std::get<wire::Poses>(*decoded), *options_.scene, publish_time);
+  mcap_.write(*scene_channel_, scene_sequence_++, log_time, publish_time, std::as_bytes(std::span(json.data(), json.size())));
+  ++scene_updates_;
 }
 
 std::uint64_t Recorder::overflowed() const {

@@ -1,10 +1,11 @@
 #include "retreat/recording/mcap_writer.hpp"
 
-#include <zlib.h>
 #include <zstd.h>
 
 #include <cstring>
 #include <stdexcept>
+
+#include "crc32.hpp"
 
 namespace retreat::recording {
 namespace {
@@ -65,18 +66,6 @@ std::vector<std::byte> record(Opcode op, Fields& content) {
   Fields r;
   r.u8(op).u64(content.out().size()).bytes(content.out());
   return std::move(r.out());
-}
-
-std::uint32_t crc32_of(std::uint32_t crc, std::span<const std::byte> b) {
-  // zlib's crc32 is the CRC-32 of the spec (IEEE 802.3, reflected); its length is a uInt.
-  std::size_t done = 0;
-  while (done < b.size()) {
-    const std::size_t n = std::min<std::size_t>(b.size() - done, 1U << 30);
-    crc = static_cast<std::uint32_t>(
-        ::crc32(crc, reinterpret_cast<const Bytef*>(b.data() + done), static_cast<uInt>(n)));
-    done += n;
-  }
-  return crc;
 }
 
 }  // namespace

@@ -4,6 +4,8 @@
 #include <sys/socket.h>
 
 #include <array>
+#include <charconv>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -166,6 +168,74 @@ void Server::add_state_routes() {
       if (impl->options.extra_metrics) impl->options.extra_metrics(out);
     }),
                     telemetry::prometheus_content_type);
+  });
+  add_replay_routes();
+}
+
+/// /api/replay (retreat-bridge --replay): the position in the recording, and moving it.
+///   GET  /api/replay                      {replaying: true, first_tick, last_tick, first_time,
+///                                          last_time, tick, time, playing, speed}; a live bridge
+///                                          {replaying: false}, and 409 to a POST
+///   POST /api/replay?tick=N               seek (and pause)
+///   POST /api/replay?play=1[&speed=S]     play at S simulated s per wall s (default 1)
+///   POST /api/replay?play=0               pause
+/// A bad parameter gets 400 with one line naming it and what is allowed.
+void Server::add_replay_routes() {
+  auto& http = impl_->http;
+  auto* impl = impl_.get();
+  const auto position_json = [](const ReplayPosition& p) {
+    return nlohmann::json{{"replaying", true},          {"first_tick", p.first_tick}, {"last_tick", p.last_tick}, {"first_time", p.first_time},
+                          {"last_time", p.last_time},   {"tick", p.tick},           {"time", p.time},
+                          {"playing", p.playing},       {"speed", p.speed}}
+        .dump();
+  };
+  http.Get("/api/replay", [impl, position_json](const httplib::Request&, httplib::Response& res) {
+    no_store(res);
+    if (impl->options.replay == nullptr) return res.set_content(R"({"replaying":false})", json_type);
+    res.set_content(position_json(impl->options.replay->position()), json_type);
+  });
+  http.Post("/api/replay", [impl, position_json](const httplib::Request& req, httplib::Response& res) {
+    auto* player = impl->options.replay;
+    if (player == nullptr) return plain_error(res, 409, "409 not replaying a recording (retreat-bridge --replay FILE)");
+    for (const auto& [key, value] : req.params) {
+      if (key != "tick" && key != "play" && key != "speed") {
+        return plain_error(res, 400, "400 unknown parameter '" + key.substr(0, 64) + "': tick, play or speed");
+      }
+    }
+    const auto number = [&](const std::string& key, double& out) {
+      const auto value = req.get_param_value(key);
+      const char* first = value.data();
+      const auto [end, ec] = std::from_chars(first, first + value.size(), out);
+      return ec == std::errc() && end == first + value.size() && std::isfinite(out);
+    };
+    if (req.has_param("tick")) {
+      double tick = 0;
+      if (!number("tick", tick) || tick != std::floor(tick) || std::abs(tick) > 9e15) {
+        return plain_error(res, 400, "400 tick '" + req.get_param_value("tick").substr(0, 64) + "': a whole number");
+      }
+      player->seek(static_cast<std::int64_t>(tick));
+    }
+    if (req.has_param("play")) {
+      const auto play = req.get_param_value("play");
+      double speed = 1.0;
+      if (req.has_param("speed") &&
+          (!number("speed", speed) || speed <= 0.0 || speed > ReplayPlayer::max_speed)) {
+        return plain_error(res, 400, "400 speed '" + req.get_param_value("speed").substr(0, 64) +
+                                         "': more than 0 and at most " +
+                                         std::to_string(static_cast<int>(ReplayPlayer::max_speed)));
+      }
+      if (play == "1") {
+        player->play(speed);
+      } else if (play == "0") {
+        player->pause();
+      } else {
+        return plain_error(res, 400, "400 play '" + play.substr(0, 64) + "': 1 or 0");
+      }
+    } else if (req.has_param("speed")) {
+      return plain_error(res, 400, "400 speed without play=1");
+    }
+    no_store(res);
+    res.set_content(position_json(player->position()), json_type);
   });
 }
 

@@ -4,8 +4,10 @@
 #include "retreat/transport/cyclonedds.hpp"
 
 #include <dds/dds.h>
+#include <dds/ddsi/ddsi_cdrstream.h>
 #include <dds/ddsi/ddsi_serdata.h>
 
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -507,6 +509,45 @@ class CycloneTransport final : public Transport {
 std::unique_ptr<Transport> make_cyclonedds_transport(const ParticipantOptions& options) {
   validate(options);
   return std::make_unique<CycloneTransport>(options);
+}
+
+std::optional<wire::AnyMessage> decode_cyclonedds(wire::MessageKind kind, std::span<const std::byte> bytes) {
+  // What Cyclone's default serdata does with a received sample: check the encapsulation header
+  // (XCDR1 or XCDR2, either byte order), normalize the body against the type's marshalling ops
+  // (bounds, byte order, booleans, sequence lengths), read it into a sample.
+  if (bytes.size() < 4 || bytes.size() > 0xFFFF'0000U) return std::nullopt;
+  const auto identifier = static_cast<std::uint16_t>(std::to_integer<unsigned>(bytes[0]) << 8 |
+                                                     std::to_integer<unsigned>(bytes[1]));
+  std::uint32_t version = 0;
+  if (identifier == 0x0000 || identifier == 0x0001) version = 1;       // CDR_BE, CDR_LE
+  else if (identifier == 0x0006 || identifier == 0x0007) version = 2;  // CDR2_BE, CDR2_LE
+  else return std::nullopt;
+  const bool big_endian = (identifier & 1) == 0;
+  const bool bswap = big_endian != (DDSRT_ENDIAN == DDSRT_BIG_ENDIAN);
+  const auto body_size = static_cast<std::uint32_t>(bytes.size() - 4);
+  std::vector<std::uint64_t> storage(body_size / 8 + 1);  // 8-byte aligned, as a receive buffer
+  auto* body = reinterpret_cast<char*>(storage.data());
+  std::memcpy(body, bytes.data() + 4, body_size);
+  return dispatch(kind, [&](auto traits) -> std::optional<wire::AnyMessage> {
+    using T = decltype(traits);
+    const auto* ops = T::desc()->m_ops;
+    std::uint32_t offset = 0;
+    if (dds_stream_normalize_data(body, &offset, body_size, bswap, version, ops) == nullptr) return std::nullopt;
+    typename T::Vendor sample;
+    std::memset(&sample, 0, sizeof sample);
+    dds_istream_t in;
+    dds_istream_init(&in, body_size, body, version);
+    dds_stream_read(&in, reinterpret_cast<char*>(&sample), ops);
+    dds_istream_fini(&in);
+    std::optional<wire::AnyMessage> out;
+    try {
+      out.emplace(cyclonedds::to_plain(sample));
+    } catch (...) {  // out of memory while copying a sequence: undecodable here
+      out.reset();
+    }
+    dds_stream_free_sample(&sample, ops);
+    return out;
+  });
 }
 
 }  // namespace retreat::transport

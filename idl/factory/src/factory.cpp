@@ -42,4 +42,16 @@ std::unique_ptr<Transport> make_transport(std::string_view vendor, const Partici
   throw std::invalid_argument("--dds '" + std::string(vendor) + "': must be one of " + allowed);
 }
 
+std::optional<wire::AnyMessage> decode_serialized(wire::MessageKind kind, std::span<const std::byte> bytes) {
+#if defined(RETREAT_HAVE_FASTDDS)
+  return decode_fastdds(kind, bytes);
+#elif defined(RETREAT_HAVE_CYCLONEDDS)
+  return decode_cyclonedds(kind, bytes);
+#else
+  (void)kind;
+  (void)bytes;
+  throw std::logic_error("decoding serialized samples needs a DDS adapter in this build");
+#endif
+}
+
 }  // namespace retreat::transport

@@ -18,6 +18,7 @@
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastrtps/utils/IPLocator.h>
 
+#include <cstring>
 #include <filesystem>
 #include <map>
 #include <mutex>
@@ -566,6 +567,20 @@ class FastTransport final : public Transport {
 std::unique_ptr<Transport> make_fastdds_transport(const ParticipantOptions& options) {
   validate(options);
   return std::make_unique<FastTransport>(options);
+}
+
+std::optional<wire::AnyMessage> decode_fastdds(wire::MessageKind kind, std::span<const std::byte> bytes) {
+  if (bytes.size() > 0xFFFF'0000U) return std::nullopt;  // no sample is that large (a payload's length is 32-bit)
+  return dispatch(kind, [&](auto traits) -> std::optional<wire::AnyMessage> {
+    using T = decltype(traits);
+    static thread_local fastdds::SafeTypeSupport<typename T::PubSub> type;  // one per type and thread
+    rtps::SerializedPayload_t payload(static_cast<std::uint32_t>(bytes.size()));
+    if (!bytes.empty()) std::memcpy(payload.data, bytes.data(), bytes.size());
+    payload.length = static_cast<std::uint32_t>(bytes.size());
+    typename T::Vendor sample;
+    if (!type.deserialize(&payload, &sample)) return std::nullopt;
+    return wire::AnyMessage{fastdds::to_plain(sample)};
+  });
 }
 
 }  // namespace retreat::transport

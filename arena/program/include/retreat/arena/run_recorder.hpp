@@ -24,6 +24,10 @@ class TrajectoryHash {
   TrajectoryHash(const TrajectoryHash&) = delete;
   TrajectoryHash& operator=(const TrajectoryHash&) = delete;
   void add(std::int64_t tick, std::uint32_t robot, std::uint8_t phase, bool retreat);
+  /// The hash so far (every record added) as a link of the per-tick chain: the first 8 bytes of
+  /// its SHA-256, little endian. Called after a tick's last record, link k is the trajectory hash
+  /// of the run cut after tick k, so two runs' chains agree up to the tick where they diverge.
+  std::uint64_t link();
   /// Hex digest; the hash cannot be extended afterwards.
   std::string finish();
 
@@ -96,6 +100,12 @@ class RunRecorder {
   void flush_each_tick(bool on) { flush_each_tick_ = on; }
   /// Journals a retreat decision applied at `tick` (flushed at once).
   void record_retreat(std::int64_t tick, std::uint32_t robot);
+  /// One robot's record of the trajectory at @p tick (what TrajectoryHash::add hashes):
+  /// transitions.csv gets a row when it differs from the robot's previous one (and for its
+  /// first), so that retreat-diff can name the robot and field where two runs diverge.
+  void record_state(std::int64_t tick, std::uint32_t robot, std::uint8_t phase, bool retreat);
+  /// The tick's link of the hash chain (TrajectoryHash::link), appended to chain.bin.
+  void record_link(std::int64_t tick, std::uint64_t link);
   /// Appends completed contact intervals (when arena.record_encounters).
   void record_contacts(const std::vector<physics::ContactRecord>& records);
   /// Writes agents.csv and summary.json and flushes everything.
@@ -111,6 +121,10 @@ class RunRecorder {
   std::ofstream telemetry_;
   std::ofstream encounters_;
   std::ofstream retreats_;
+  std::ofstream chain_;        ///< chain.bin: magic, then one link per tick from tick 0
+  std::ofstream transitions_;  ///< transitions.csv
+  std::vector<std::uint16_t> last_state_;  ///< by robot: phase | retreat << 8; 0xFFFF before its first
+  std::int64_t next_link_tick_ = 0;
   std::int64_t resumable_tick_ = 0;
   RetreatJournal journal_;
   // population (inside) per tick for the summary's statistics

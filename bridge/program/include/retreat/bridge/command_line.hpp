@@ -17,6 +17,7 @@ struct BridgeCommandLine {
   HttpAddress address;          ///< --http, else bridge.http
   std::string address_origin;   ///< which of the two gave `address`, for messages
   std::string out_dir;          ///< --out: record into this run directory (empty: none)
+  std::string replay;           ///< --replay FILE: serve a recording's run, no DDS (empty: live)
   bool print_config = false;
 };
 

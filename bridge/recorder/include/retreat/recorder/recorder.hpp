@@ -7,10 +7,13 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "retreat/physics/params.hpp"
 #include "retreat/recording/mcap_writer.hpp"
 #include "retreat/transport/transport.hpp"
 
@@ -30,6 +33,9 @@ struct RecorderOptions {
   /// Per-robot topics are kept ready this many ids beyond the highest robot an agent announced
   /// (an endless queue's agents start ahead of their robots).
   std::uint32_t spare = 8;
+  /// The arena's geometry: with it, every `poses` sample is also written as a
+  /// foxglove.SceneUpdate on `<prefix>/scene` (recorder/scene.hpp), for Foxglove's 3D panel.
+  std::optional<physics::WorldParams> scene;
 };
 
 /// What was recorded on one topic.
@@ -58,6 +64,8 @@ class Recorder {
   std::uint64_t overflowed() const;
   /// Per topic, in the order the readers were created.
   std::vector<ChannelCount> counts() const;
+  /// Scene updates written (one per decoded `poses` sample, with RecorderOptions::scene).
+  std::uint64_t scene_updates() const { return scene_updates_; }
   /// The highest robot id with readers, plus one.
   std::uint32_t robots_covered() const { return covered_; }
 
@@ -67,10 +75,13 @@ class Recorder {
     std::uint16_t channel;
     std::uint32_t sequence = 0;
     std::uint64_t messages = 0;
+    bool drawn = false;  ///< the arena's poses: also written as scene updates
   };
   void add_topic(wire::MessageKind kind, const transport::TopicSpec& spec);
   void cover_robots(std::uint32_t end);  ///< readers for every robot id below @p end
   void watch_discovery(std::int64_t now_ns);
+  /// Writes a scene update for one `poses` sample (undecodable or invalid ones: raw only).
+  void draw(std::span<const std::byte> cdr, std::uint64_t log_time, std::uint64_t publish_time);
 
   transport::Transport& transport_;
   recording::McapWriter& mcap_;
@@ -81,6 +92,9 @@ class Recorder {
   std::uint32_t covered_ = 0;
   std::uint64_t messages_ = 0;
   std::int64_t next_discovery_check_ = 0;
+  std::optional<std::uint16_t> scene_channel_;
+  std::uint32_t scene_sequence_ = 0;
+  std::uint64_t scene_updates_ = 0;
 };
 
 }  // namespace retreat::recorder

@@ -14,6 +14,8 @@
 ///   GET /runs/<file>       telemetry.csv, agents.csv, summary.json, scenario.yaml,
 ///                          encounters.csv, agent_status.csv, report.html (from --out)
 ///   GET /report            a report of the run directory rendered now (HTML)
+///   GET, POST /api/replay  with --replay: the position in the recording, seek, play, pause
+///                          (server.cpp, add_replay_routes)
 ///
 /// Limits: request bodies over 64 KiB get 413, request lines over 8 KiB 414, headers over
 /// 8 KiB 400; a client that stalls is dropped after 2 s; at most 8 event streams at once (503
@@ -29,6 +31,7 @@
 
 #include "retreat/bridge/address.hpp"
 #include "retreat/bridge/live_state.hpp"
+#include "retreat/bridge/replay_player.hpp"
 
 namespace retreat::bridge {
 
@@ -45,6 +48,8 @@ struct ServerOptions {
   std::chrono::seconds event_keep_alive{15};
   /// More metric families after the swarm's (e.g. the receiver's counters).
   std::function<void(telemetry::PrometheusWriter&)> extra_metrics;
+  /// With --replay: the player /api/replay moves (must outlive the server); null when live.
+  ReplayPlayer* replay = nullptr;
 };
 
 /// Files a run directory may serve, and nothing else.
@@ -74,6 +79,7 @@ class Server {
   void add_state_routes();
   void add_event_stream_route();
   void add_run_file_routes();
+  void add_replay_routes();
 
   struct Impl;
   std::unique_ptr<Impl> impl_;

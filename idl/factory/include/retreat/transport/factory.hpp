@@ -2,7 +2,10 @@
 /// @file
 /// Picks a transport implementation by name at run time.
 
+#include <cstddef>
 #include <memory>
+#include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -22,5 +25,11 @@ std::vector<std::string> dds_vendors();
 /// line naming the value and the allowed ones for an unknown name, and passes on the
 /// implementation's errors.
 std::unique_ptr<Transport> make_transport(std::string_view vendor, const ParticipantOptions& options);
+
+/// Decodes one sample's serialized bytes (CDR with its encapsulation header: a recording's
+/// message) with a DDS vendor's generated code (Fast DDS's when built, else Cyclone DDS's), as a
+/// reader of that vendor would; nullopt if they do not decode. The caller validates
+/// (wire::validate). Throws std::logic_error in a build without DDS.
+std::optional<wire::AnyMessage> decode_serialized(wire::MessageKind kind, std::span<const std::byte> bytes);
 
 }  // namespace retreat::transport

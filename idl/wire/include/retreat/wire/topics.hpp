@@ -20,6 +20,8 @@ inline constexpr const char* arena_user_data = "retreat:arena";
 /// and every agent wait for n of them to match their writers before their robot's traffic
 /// begins, so that a recording holds every sample (docs/protocol.md §9).
 inline constexpr const char* recorder_user_data = "retreat:recorder";
+/// What retreat-replay announces: it plays an arena's part to the agents it replays to.
+inline constexpr const char* replay_user_data = "retreat:replay";
 
 std::string proximity_topic(const std::string& prefix, RobotId robot);  ///< <p>/robot_<id>/proximity
 std::string decision_topic(const std::string& prefix, RobotId robot);   ///< <p>/robot_<id>/decision
