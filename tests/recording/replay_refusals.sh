@@ -1,10 +1,11 @@
 #!/bin/sh
-# retreat-replay and retreat-diff refuse bad input at start-up: exit code 2 and one line on
-# stderr naming the value. Nothing joins DDS (each refusal comes before the participant).
-#   replay_refusals.sh RETREAT_REPLAY RETREAT_DIFF RECORDING WORKDIR
+# retreat-replay, retreat-diff and retreat-bridge --replay refuse bad input at start-up: exit
+# code 2 and one line on stderr naming the value. Nothing joins DDS (each refusal comes before
+# the participant) and nothing serves HTTP.
+#   replay_refusals.sh RETREAT_REPLAY RETREAT_DIFF RETREAT_BRIDGE RECORDING WORKDIR
 # RECORDING: a short recorded run (tests/fuzz/corpus/recording), robots 0..6.
 set -u
-replay=$1 diff=$2 recording=$3 work=$4
+replay=$1 diff=$2 bridge=$3 recording=$4 work=$5
 rm -rf "$work"; mkdir -p "$work"
 status=0
 refused() {  # PROGRAM NAME EXPECTED_TEXT ARGS...
@@ -40,5 +41,10 @@ refused "$d" kinds "one is a run directory, the other a recording" "$work/not-a-
 refused "$d" absent "no such file or directory" "$work/nothing" "$recording"
 refused "$d" no-chain "no chain.bin" "$work/not-a-run" "$work/not-a-run"
 refused "$d" diff-truncated "truncated at byte" "$work/truncated.mcap" "$recording"
+b=$bridge
+refused "$b" bridge-truncated "--replay: '.*truncated.mcap': truncated at byte" --replay "$work/truncated.mcap" --http 127.0.0.1:0
+refused "$b" bridge-not-mcap "not an MCAP file" --replay "$work/text.mcap" --http 127.0.0.1:0
+refused "$b" bridge-scenario "--scenario with --replay" --replay "$recording" --scenario x.yaml
+refused "$b" bridge-out "--out with --replay" --replay "$recording" --out "$work/run"
 [ "$status" -eq 0 ] && rm -rf "$work"
 exit $status
