@@ -135,10 +135,6 @@ void plan_in_process(Plan& plan) {
 /// --record FILE: retreat-record beside the run, and every process waits for it (run.recorders).
 void plan_recording(const LaunchOptions& o, const std::string& dir, Plan& plan) {
   const std::string what = "--record '" + o.record + "'";
-  if (plan.scenario.dds.security == scenario::Security::on) {
-    throw UsageError(what + ": not with dds.security = on (the swarm's PKI has no recorder "
-                     "identity yet; docs/recording.md)");
-  }
   if (o.dds == "mixed") {
     // Measured in 2 of 4 recorded mixed runs: a Cyclone DDS recorder missed a Fast DDS agent's
     // first answer. The agent waits until its writer has matched the recorder's reader, but across

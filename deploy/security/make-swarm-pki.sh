@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Creates the DDS Security PKI of one swarm (docs/security.md): a certificate authority, one
 # identity per robot agent, one per robot's own link (driver_<id>: a real robot's frames or
-# tracked pose, and its decisions), one for the arena and one for the bridge, a governance document and
+# tracked pose, and its decisions), one for the arena, one for the bridge and one for the recorder
+# (retreat-record: it reads every topic and writes none), a governance document and
 # one permissions document per identity, both signed by the CA (S/MIME). Both DDS vendors read
 # the same files (dds.security: on, dds.security_dir: DIR).
 #
@@ -18,7 +19,7 @@
 #   ca.pem, ca.key             the CA (identity CA and permissions CA); keep ca.key private
 #   governance.xml, .p7s       the swarm's rules (the .p7s is what the participants load)
 #   <identity>/cert.pem, key.pem, permissions.xml, permissions.p7s
-#       for the identities robot_<id>, driver_<id>, arena and bridge
+#       for the identities robot_<id>, driver_<id>, arena, bridge and recorder
 #
 # Idempotent: an existing CA and existing identities are kept (an identity whose certificate
 # the CA does not verify is made again); a document is signed again only when its text changed.
@@ -211,5 +212,8 @@ permissions arena "$prefix/robot_*/proximity $prefix/arena_telemetry $prefix/pos
   "$prefix/robot_*/decision $prefix/robot_*/plan $prefix/robot_*/tracked_pose"
 identity bridge
 permissions bridge "" "$prefix/arena_telemetry $prefix/poses $prefix/agent_status"
+identity recorder
+permissions recorder "" "$prefix/robot_*/proximity $prefix/robot_*/decision $prefix/robot_*/plan \
+$prefix/robot_*/tracked_pose $prefix/arena_telemetry $prefix/poses $prefix/agent_status"
 
-echo "$program: $out: CA, robot_$robot_lo..robot_$robot_hi, driver_$robot_lo..driver_$robot_hi, arena, bridge (prefix $prefix, domains $domain_lo-$domain_hi)"
+echo "$program: $out: CA, robot_$robot_lo..robot_$robot_hi, driver_$robot_lo..driver_$robot_hi, arena, bridge, recorder (prefix $prefix, domains $domain_lo-$domain_hi)"

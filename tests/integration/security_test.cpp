@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "launch_support.hpp"
+#include "retreat/replay/recording.hpp"
 #include "retreat/testing/domains.hpp"
 #include "retreat/testing/process.hpp"
 
@@ -65,13 +66,13 @@ json run_swarm(const std::string& dir, const std::vector<std::string>& args) {
 
 // ---- the PKI script ------------------------------------------------------------------------
 
-TEST(SwarmPki, MakesOneIdentityPerRobotArenaAndBridgeAndKeepsThemOnASecondRun) {
+TEST(SwarmPki, MakesOneIdentityPerRobotArenaBridgeAndRecorderAndKeepsThemOnASecondRun) {
   const auto dir = fresh_dir("security-pki");
   const auto pki = make_pki(dir);
   for (const auto* file : {"ca.pem", "ca.key", "governance.xml", "governance.p7s"}) {
     EXPECT_TRUE(std::filesystem::is_regular_file(pki + "/" + file)) << file;
   }
-  std::vector<std::string> identities = {"arena", "bridge"};
+  std::vector<std::string> identities = {"arena", "bridge", "recorder"};
   for (int r = 0; r < 12; ++r) identities.push_back("robot_" + std::to_string(r));
   for (const auto& id : identities) {
     for (const auto* file : {"cert.pem", "key.pem", "permissions.xml", "permissions.p7s"}) {
@@ -87,6 +88,14 @@ TEST(SwarmPki, MakesOneIdentityPerRobotArenaAndBridgeAndKeepsThemOnASecondRun) {
                         "<topic>retreat/robot_3/plan</topic><topic>retreat/agent_status</topic></topics></publish>"),
             std::string::npos) << robot3;
   EXPECT_EQ(testing::read_file(pki + "/bridge/permissions.xml").find("<publish>"), std::string::npos);
+  // The recorder reads every topic of the swarm and writes none.
+  const auto recorder = testing::read_file(pki + "/recorder/permissions.xml");
+  EXPECT_EQ(recorder.find("<publish>"), std::string::npos) << recorder;
+  for (const auto* topic : {"retreat/robot_*/proximity", "retreat/robot_*/decision", "retreat/robot_*/plan",
+                            "retreat/robot_*/tracked_pose", "retreat/arena_telemetry", "retreat/poses",
+                            "retreat/agent_status"}) {
+    EXPECT_NE(recorder.find(std::string("<topic>") + topic + "</topic>"), std::string::npos) << topic;
+  }
 
   const auto cert = testing::read_file(pki + "/robot_3/cert.pem");
   const auto signed_permissions = testing::read_file(pki + "/robot_3/permissions.p7s");
@@ -149,14 +158,28 @@ TEST_P(SecureSwarm, CompletesWithThePlainRunsTrajectoryHash) {
   EXPECT_LE(safe["decisions_dropped"].get<std::uint64_t>(), safe["frames_resent"].get<std::uint64_t>());
   EXPECT_GT(plain["agents"]["retreated"].get<int>(), 0);  // the hash depends on the agents' decisions
   EXPECT_EQ(safe["trajectory_sha256"], plain["trajectory_sha256"]);
-  // Event-driven lockstep: the agents' plans pass the permissions too (robot_<i>/plan).
+  // Event-driven lockstep: the agents' plans pass the permissions too (robot_<i>/plan). Recorded
+  // (retreat-record with the PKI's `recorder` identity, which may read every topic): the
+  // recording holds every robot's frames and answers, nothing lost or undecodable.
   auto planned_args = secure(run_args(vendor, domain), pki);
-  planned_args.insert(planned_args.end(), {"--set", "run.plans=true"});
+  const auto recording = dir + "/secure-plans.mcap";
+  planned_args.insert(planned_args.end(), {"--set", "run.plans=true", "--record", recording});
   const auto planned = run_swarm(dir + "/secure-plans", planned_args);
   ASSERT_FALSE(planned.empty());
   EXPECT_EQ(planned["agents"]["lost"], 0);
   EXPECT_GT(planned["decisions_planned"].get<std::uint64_t>(), 0u);
   EXPECT_EQ(planned["trajectory_sha256"], plain["trajectory_sha256"]);
+  EXPECT_EQ(planned["launch"]["recording"]["recorder"], "exited with code 0") << planned.dump();
+  const auto recorded = replay::load_recording(recording);
+  EXPECT_EQ(recorded.recorder_dropped, 0);
+  EXPECT_EQ(recorded.undecodable + recorded.invalid, 0u);
+  EXPECT_FALSE(recorded.telemetry.empty());
+  EXPECT_FALSE(recorded.statuses.empty());
+  ASSERT_EQ(recorded.robots.size(), 12u);
+  for (const auto& [id, robot] : recorded.robots) {
+    EXPECT_FALSE(robot.frames.empty()) << "robot " << id;
+    EXPECT_GE(robot.answers.size(), robot.frames.size() - 1) << "robot " << id;  // all but a departed frame's
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Vendor, SecureSwarm,

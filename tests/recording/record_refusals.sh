@@ -18,6 +18,10 @@ refused no-out "--out" --scenario "$scenario" --domain 84
 refused no-directory "/nonexistent/run.mcap" --scenario "$scenario" --domain 84 --out /nonexistent/run.mcap
 refused inmemory "dds.vendor = inmemory" --scenario "$scenario" --domain 84 --out "$work/x.mcap" --dds inmemory
 refused security "dds.security" --scenario "$scenario" --domain 84 --out "$work/x.mcap" --set dds.security=on
+# A swarm PKI without the recorder's identity (made before retreat-record had one).
+mkdir -p "$work/pki" && : >"$work/pki/ca.pem" && : >"$work/pki/governance.p7s"
+refused no-recorder-identity "no recorder/cert.pem" --scenario "$scenario" --domain 84 --out "$work/x.mcap" \
+  --set dds.security=on --set dds.security_dir="$work/pki"
 refused bad-domain "300" --scenario "$scenario" --domain 300 --out "$work/x.mcap"
 if [ -e "$work/x.mcap" ]; then echo "record_refusals: a refused start wrote its file"; status=1; fi
 [ "$status" -eq 0 ] && rm -rf "$work"

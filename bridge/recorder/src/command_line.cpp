@@ -1,6 +1,7 @@
 #include "retreat/recorder/command_line.hpp"
 
 #include "retreat/scenario/program_options.hpp"
+#include "retreat/wire/topics.hpp"
 
 namespace retreat::recorder {
 
@@ -19,10 +20,9 @@ std::variant<RecordCommandLine, int> parse_command_line(int argc, char** argv) {
     if (out.scenario.dds.vendor == scenario::Vendor::inmemory) {
       throw scenario::ConfigError("dds.vendor = inmemory: a recorder reads DDS traffic (fastdds or cyclonedds)");
     }
-    if (out.scenario.dds.security == scenario::Security::on) {
-      throw scenario::ConfigError(
-          "dds.security = on: the swarm's PKI has no recorder identity yet (docs/recording.md)");
-    }
+    // The participant's options, checked now (a secure swarm's PKI must hold the `recorder`
+    // identity): a refused start writes no file.
+    (void)scenario::participant_options(out.scenario, program, wire::recorder_user_data, "recorder");
     return out;
   });
 }
