@@ -8,6 +8,7 @@
 #include <functional>
 #include <map>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <vector>
 
@@ -296,14 +297,15 @@ DiffResult diff_recordings(const std::string& a, const std::string& b) {
           << "): their frames and answers are not compared, their statuses, poses and telemetry are\n";
   }
   // Per robot: frames and answers (same mode only), by tick.
-  std::map<std::uint32_t, bool> robots;
-  for (const auto& [id, r] : ra.robots) robots[id] = true;
-  for (const auto& [id, r] : rb.robots) robots[id] = true;
-  for (const auto& [id, present] : robots) {
+  std::set<std::uint32_t> robots;
+  if (same_mode) {
+    for (const auto& [id, r] : ra.robots) robots.insert(id);
+    for (const auto& [id, r] : rb.robots) robots.insert(id);
+  }
+  for (const auto id : robots) {
     static const RecordedRobot none;
     const auto& x = ra.robots.count(id) ? ra.robots.at(id) : none;
     const auto& y = rb.robots.count(id) ? rb.robots.at(id) : none;
-    if (!same_mode) continue;
     std::map<std::int64_t, wire::ProximityFrame> fx, fy;
     for (const auto& f : x.frames) fx.try_emplace(f.sample.tick, f.sample);
     for (const auto& f : y.frames) fy.try_emplace(f.sample.tick, f.sample);
