@@ -78,6 +78,7 @@ int main(int argc, char** argv) {
     options.robots = s.arena.robots_inside + s.arena.robots_waiting;
     options.plans = s.run.plans;
     options.external_robots = s.arena.external_robots;
+    options.answers_kept = s.run.recorders > 0;
     options.scene = s.arena;
     recorder::Recorder recorder(*transport, mcap, options);
     std::fprintf(stderr, "retreat-record: recording domain %d (%s) into %s\n", s.dds.domain,

@@ -135,18 +135,6 @@ void plan_in_process(Plan& plan) {
 /// --record FILE: retreat-record beside the run, and every process waits for it (run.recorders).
 void plan_recording(const LaunchOptions& o, const std::string& dir, Plan& plan) {
   const std::string what = "--record '" + o.record + "'";
-  if (o.dds == "mixed") {
-    // Measured in 2 of 4 recorded mixed runs: a Cyclone DDS recorder missed a Fast DDS agent's
-    // first answer. The agent waits until its writer has matched the recorder's reader, but across
-    // the two vendors the reader may match the writer later, and a volatile reader does not get
-    // what was written before it matched.
-    throw UsageError(what + ": not with --dds mixed yet (a Cyclone DDS recorder can miss a Fast "
-                     "DDS agent's first answer; docs/recording.md)");
-  }
-  if (!o.arena_profile.empty()) {
-    throw UsageError(what + ": not with --arena-profile (a star's discovery has no place for the "
-                     "recorder yet; docs/recording.md)");
-  }
   const auto parent = std::filesystem::absolute(o.record).parent_path();
   if (!std::filesystem::is_directory(parent)) {
     throw UsageError(what + ": the directory '" + parent.string() + "' does not exist");

@@ -177,35 +177,37 @@ RunOutcome run_processes(const Plan& plan, std::uint64_t seed, const std::string
       arena_args.push_back("dds.profile=" + fs::absolute(plan.options.arena_profile).string());
     }
     arena = std::make_unique<ChildProcess>("retreat-arena", arena_args, dir + "/logs/arena.log");
+    // Agents of a Cyclone star announce themselves to participant indices 0 (the hub: the arena),
+    // 1 and 2 only (deploy/dds/cyclonedds-star-agent.xml): the bridge and the recorder, which read
+    // every agent's topics, run the hub's file as indices 1 and 2. (A Fast DDS star's clients
+    // learn every endpoint they match from the server: they keep the swarm's client profile.)
+    const bool cyclone_star = plan.vendors.arena == "cyclonedds" && !plan.options.arena_profile.empty();
+    const auto observer = [&](std::vector<std::string> args, int star_index) {
+      std::vector<std::string> env;
+      if (cyclone_star) {
+        args.push_back("--set");
+        args.push_back("dds.profile=" + fs::absolute(plan.options.arena_profile).string());
+        env.push_back("RETREAT_DDS_PARTICIPANT_INDEX=" + std::to_string(star_index));
+      }
+      return std::pair{std::move(args), std::move(env)};
+    };
     if (!recording.empty()) {
       // Second, so that it has a low participant index too; the arena and every agent wait for
       // it to match their writers (run.recorders = 1) before their robot's traffic begins.
-      recorder = std::make_unique<ChildProcess>(
-          "retreat-record", with({plan.record_exe, "--dds", plan.vendors.arena, "--out", recording}),
-          dir + "/logs/record.log");
+      auto [args, env] = observer(with({plan.record_exe, "--dds", plan.vendors.arena, "--out", recording}), 2);
+      recorder = std::make_unique<ChildProcess>("retreat-record", args, dir + "/logs/record.log", env);
     }
     const std::uint32_t robots = agent_processes(plan, s);
     for (std::uint32_t r = 0; r < robots && stop_signal.load() == 0; ++r) {
       std::this_thread::sleep_for(agent_stagger);
       start_agent(r);
     }
-    const bool cyclone_star = plan.vendors.arena == "cyclonedds" && !plan.options.arena_profile.empty();
     const auto start_bridge = [&] {
       const std::string log = bridge_restarts == 0
                                   ? "bridge.log"
                                   : "bridge.restart_" + std::to_string(bridge_restarts) + ".log";
-      auto bridge_args = with({plan.bridge_exe, "--dds", plan.vendors.arena, "--out", dir});
-      std::vector<std::string> bridge_env;
-      if (cyclone_star) {
-        // Agents of a Cyclone star announce to participant indices 0 (the hub: the arena) and 1
-        // only (deploy/dds/cyclonedds-star-agent.xml): the bridge, which reads every agent's
-        // status, runs the hub's file as index 1.
-        bridge_args.push_back("--set");
-        bridge_args.push_back("dds.profile=" + fs::absolute(plan.options.arena_profile).string());
-        bridge_env.push_back("RETREAT_DDS_PARTICIPANT_INDEX=1");
-      }
-      bridge = std::make_unique<ChildProcess>("retreat-bridge", bridge_args, dir + "/logs/" + log,
-                                              bridge_env);
+      auto [args, env] = observer(with({plan.bridge_exe, "--dds", plan.vendors.arena, "--out", dir}), 1);
+      bridge = std::make_unique<ChildProcess>("retreat-bridge", args, dir + "/logs/" + log, env);
     };
     if (!plan.bridge_exe.empty() && stop_signal.load() == 0) start_bridge();
     write_processes(dir, domain, *arena, plan.vendors.arena, agents, bridge.get());

@@ -232,6 +232,33 @@ TEST(TransportContract, AVolatileReaderDoesNotReceiveWhatWasWrittenBeforeItJoine
   EXPECT_EQ(got.front().tick, 1);
 }
 
+// run.recorders: an agent's answer writer keeps its answers for a recorder whose reader matches it
+// only after the first ones were written (qos.hpp, kept_for_recorders). The recorder's
+// transient-local reader gets every one, in order (Cyclone DDS too: its durability service
+// history would keep one only); the arena's volatile reader still matches and gets only new ones.
+TEST(TransportContract, ARecordedAnswerWriterKeepsEveryAnswerForALateRecorder) {
+  const auto prefix = test_prefix();
+  const auto topic = wire::decision_topic(prefix, 2);
+  auto agent = participant("agent");
+  auto writer = agent->create_writer<wire::Decision>({topic, QosIntent::answers().kept_for_recorders(1)});
+  constexpr int before = 100;
+  for (int i = 0; i < before; ++i) ASSERT_EQ(writer.write(testing::decision_sample(2, i)), WriteResult::ok);
+  auto recorder = participant("recorder");
+  auto recorded = recorder->create_reader<wire::Decision>(
+      {topic, {Reliability::reliable, Durability::transient_local, 0}});
+  auto arena = participant("arena");
+  auto live = arena->create_reader<wire::Decision>({topic, QosIntent::control()});
+  ASSERT_TRUE(eventually([&] { return writer.matched_count() >= 2 && live.matched_count() >= 1; },
+                         retreat::testing::hang_ceiling));
+  ASSERT_EQ(writer.write(testing::decision_sample(2, before)), WriteResult::ok);
+  const auto got = receive(recorded, *recorder, before + 1);
+  ASSERT_EQ(got.size(), std::size_t{before + 1});
+  for (int i = 0; i <= before; ++i) EXPECT_EQ(got[static_cast<std::size_t>(i)], testing::decision_sample(2, i));
+  const auto new_only = receive(live, *arena, 1);
+  ASSERT_EQ(new_only.size(), 1u);
+  EXPECT_EQ(new_only.front(), testing::decision_sample(2, before));
+}
+
 TEST(TransportContract, InvalidSamplesAreDroppedAndCountedNeverPassedOn) {
   const auto prefix = test_prefix();
   auto a = participant("arena");

@@ -48,7 +48,6 @@ TEST(LaunchInput, BadInputIsRefusedWithExitCodeTwoAndNothingStarted) {
   expect_refused("record-in-process", {robotarium, "--in-process", "--record", mcap});
   expect_refused("recorders-in-process", {robotarium, "--in-process", "--set", "run.recorders=1"});
   expect_refused("recorders-out-of-range", {robotarium, "--set", "run.recorders=9", "--domain", "64"});
-  expect_refused("record-mixed", {robotarium, "--dds", "mixed", "--record", mcap, "--domain", "64"});
   expect_refused("record-no-directory",
                  {robotarium, "--dds", "cyclonedds", "--record", "/nonexistent/run.mcap", "--domain", "64"});
   EXPECT_FALSE(std::filesystem::exists(mcap)) << "a refused launch wrote its recording";

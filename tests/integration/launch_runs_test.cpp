@@ -305,7 +305,7 @@ TEST(LaunchRuns, TheBridgeIsStartedBesideTheSwarmAndStoppedAfterIt) {
 }
 
 // A Cyclone star (deploy/dds/cyclonedds-star-*.xml): agents announce to participant indices 0
-// (the hub, the arena) and 1 only, so the launcher runs the bridge on the hub's file as index 1;
+// (the hub, the arena), 1 and 2 only, so the launcher runs the bridge on the hub's file as index 1;
 // otherwise it would hear no agent. Every robot's status reaching agent_status.csv proves it.
 // The full 1,200 s with K_p = λ_in = 0 (nobody retreats, every agent runs to the end): some 10 s
 // of wall time, several of Cyclone's 2 s discovery announcements, even on a loaded machine.

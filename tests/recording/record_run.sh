@@ -5,25 +5,39 @@
 # recording block of tests/support/include/retreat/testing/domains.hpp). When a Cyclone DDS and
 # a Fast DDS per-tick case of 150 s both ran, their payloads are compared (compare_payloads.mjs).
 #
-# A case VENDOR:DURATION:PLANS runs retreat-launch --record; VENDOR:DURATION:PLANS:late runs
-# retreat-launch --set run.recorders=1 and starts retreat-record (next to the launcher) by hand
-# 2 s later: the arena and the agents must wait for it, or the first samples are missing.
+# A case VENDOR:DURATION:PLANS runs retreat-launch --record (VENDOR: fastdds, cyclonedds or
+# mixed); VENDOR:DURATION:PLANS:late runs retreat-launch --set run.recorders=1 and starts
+# retreat-record (next to the launcher) by hand 2 s later: the arena and the agents must wait for
+# it, or the first samples are missing. VENDOR:DURATION:PLANS:star records a star: the arena on
+# the hub's profile, every other process on the agents' (deploy/dds/*star*, the Fast DDS
+# discovery-server pair with its port moved from 11811 to 7313 so as not to meet a swarm of
+# this host).
 #
 #   record_run.sh LAUNCH SCENARIO NODE CHECK NODE_MODULES DOMAIN WORKDIR  CASE...
 set -u
 launch=$1 scenario=$2 node=$3 check=$4 modules=$5 domain=$6 work=$7
 shift 7
+profiles="$(dirname "$scenario")/../dds"
 rm -rf "$work"
 mkdir -p "$work"
 status=0
 for case in "$@"; do
-  IFS=: read -r vendor duration plans late <<EOF_CASE
+  IFS=: read -r vendor duration plans how <<EOF_CASE
 $case
 EOF_CASE
-  dir="$work/$vendor-$duration-$plans${late:+-late}"
+  dir="$work/$vendor-$duration-$plans${how:+-$how}"
   mkdir -p "$dir"
   sets="--set run.duration=$duration --set run.plans=$plans"
-  if [ -z "$late" ]; then
+  if [ "$how" = star ]; then
+    if [ "$vendor" = fastdds ]; then
+      sed 's|<port>11811</port>|<port>7313</port>|' "$profiles/fastdds-discovery-server-hub.xml" >"$dir/hub.xml"
+      sed 's|<port>11811</port>|<port>7313</port>|' "$profiles/fastdds-discovery-server-client.xml" >"$dir/agent.xml"
+    else
+      cp "$profiles/$vendor-star-hub.xml" "$dir/hub.xml"; cp "$profiles/$vendor-star-agent.xml" "$dir/agent.xml"
+    fi
+    sets="$sets --arena-profile $dir/hub.xml --set dds.profile=$dir/agent.xml"
+  fi
+  if [ "$how" != late ]; then
     "$launch" "$scenario" --dds "$vendor" --domain "$domain" --no-bridge --out "$dir/run" $sets \
       --record "$dir/run.mcap" >"$dir/launch.log" 2>&1
     code=$?
@@ -33,7 +47,7 @@ EOF_CASE
     launcher=$!
     sleep 2
     "$(dirname "$launch")/retreat-record" --scenario "$scenario" --dds "$vendor" --domain "$domain" $sets \
-      --out "$dir/run.mcap" 2>"$dir/record.log" &
+      --set run.recorders=1 --out "$dir/run.mcap" 2>"$dir/record.log" &
     recorder=$!
     wait "$launcher"; code=$?
     kill -TERM "$recorder"; wait "$recorder"

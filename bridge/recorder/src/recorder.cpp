@@ -67,13 +67,13 @@ void Recorder::add_topic(wire::MessageKind kind, const transport::TopicSpec& spe
 void Recorder::cover_robots(std::uint32_t end) {
   using transport::QosIntent;
   const auto& p = options_.prefix;
+  QosIntent answers = QosIntent::control();
+  if (options_.answers_kept) answers.durability = transport::Durability::transient_local;
   for (; covered_ < end; ++covered_) {
     const auto id = covered_;
     add_topic(wire::MessageKind::proximity_frame, {wire::proximity_topic(p, id), QosIntent::control()});
-    add_topic(wire::MessageKind::decision, {wire::decision_topic(p, id), QosIntent::control()});
-    if (options_.plans) {
-      add_topic(wire::MessageKind::decision, {wire::plan_topic(p, id), QosIntent::control()});
-    }
+    add_topic(wire::MessageKind::decision, {wire::decision_topic(p, id), answers});
+    if (options_.plans) add_topic(wire::MessageKind::decision, {wire::plan_topic(p, id), answers});
     if (id < options_.external_robots) {
       add_topic(wire::MessageKind::poses, {wire::tracked_pose_topic(p, id), QosIntent::control()});
     }

@@ -138,11 +138,13 @@ class Qos {
     dds_qset_durability(qos_, intent.durability == Durability::transient_local
                                   ? DDS_DURABILITY_TRANSIENT_LOCAL
                                   : DDS_DURABILITY_VOLATILE);
-    if (intent.depth == 0) {
-      dds_qset_history(qos_, DDS_HISTORY_KEEP_ALL, 0);
-    } else {
-      dds_qset_history(qos_, DDS_HISTORY_KEEP_LAST, static_cast<int32_t>(intent.depth));
-    }
+    const auto history = intent.depth == 0 ? DDS_HISTORY_KEEP_ALL : DDS_HISTORY_KEEP_LAST;
+    const auto depth = intent.depth == 0 ? 0 : static_cast<int32_t>(intent.depth);
+    dds_qset_history(qos_, history, depth);
+    // What a transient-local writer keeps for late joiners is its durability service history
+    // (Cyclone DDS; keep-last 1 by default), not its history: the same depth, as Fast DDS keeps.
+    dds_qset_durability_service(qos_, 0, history, depth, DDS_LENGTH_UNLIMITED, DDS_LENGTH_UNLIMITED,
+                                DDS_LENGTH_UNLIMITED);
     dds_qset_resource_limits(qos_, DDS_LENGTH_UNLIMITED, DDS_LENGTH_UNLIMITED, DDS_LENGTH_UNLIMITED);
     const dds_data_representation_id_t xcdr1 = DDS_DATA_REPRESENTATION_XCDR1;
     dds_qset_data_representation(qos_, 1, &xcdr1);

@@ -30,6 +30,12 @@ struct RecorderOptions {
   std::uint32_t robots = 0;         ///< per-robot topics of robots 0..robots-1 from the start
   bool plans = false;               ///< also `<prefix>/robot_<id>/plan` (run.plans)
   std::uint32_t external_robots = 0;  ///< robots 0..n-1 also have `tracked_pose` (real robots)
+  /// run.recorders > 0: the agents' answer writers are transient-local then
+  /// (QosIntent::kept_for_recorders), and the decision and plan readers ask for it, so that the
+  /// answers written before a reader matched its writer are recorded too. A swarm started without
+  /// run.recorders offers volatile answers, which such a reader does not match: the recorder
+  /// takes the swarm's own scenario.
+  bool answers_kept = false;
   /// Per-robot topics are kept ready this many ids beyond the highest robot an agent announced
   /// (an endless queue's agents start ahead of their robots).
   std::uint32_t spare = 8;

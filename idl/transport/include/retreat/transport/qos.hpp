@@ -40,14 +40,21 @@ struct QosIntent {
   /// This intent for a writer whose every sample @p recorders recorders must get (run.recorders):
   /// a keep-last writer then keeps the last `recorded_depth` per instance, so that a sample is not
   /// replaced before a recorder that keeps up has acknowledged it (keep-last-1 was seen to lose
-  /// 0.5 % of the telemetry to a Fast DDS recorder). History is not a request/offered QoS: readers
-  /// and the wire are unchanged; a late joiner of state() gets up to that many samples per
-  /// instance instead of one, and a dead reader of answers() may hold more of them (Cyclone DDS
-  /// throttles a writer above its high-water mark until the reader's lease ends). Unchanged
-  /// without recorders, and for keep-all.
+  /// 0.5 % of the telemetry to a Fast DDS recorder), and is transient-local, so that a recorder
+  /// whose reader matches it only after its first samples (the writer's side of a match can come
+  /// first, e.g. a Fast DDS agent and a Cyclone DDS recorder) still gets them: the recorder asks
+  /// for them with a transient-local reader (recorder/recorder.hpp). Readers of the swarm stay
+  /// volatile, get only new samples, and match either way (a volatile reader matches a
+  /// transient-local writer); a late joiner of state() gets up to that many samples per instance
+  /// instead of one, and a dead reader of answers() may hold more of them (Cyclone DDS throttles a
+  /// writer above its high-water mark until the reader's lease ends). Unchanged without
+  /// recorders, and for keep-all.
   constexpr QosIntent kept_for_recorders(std::uint32_t recorders) const {
     QosIntent kept = *this;
-    if (recorders > 0 && depth != 0 && depth < recorded_depth) kept.depth = recorded_depth;
+    if (recorders > 0 && depth != 0) {
+      kept.depth = depth < recorded_depth ? recorded_depth : depth;
+      kept.durability = Durability::transient_local;
+    }
     return kept;
   }
   static constexpr std::uint32_t recorded_depth = 1024;
