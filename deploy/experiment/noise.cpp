@@ -18,6 +18,7 @@
 
 #include "ensemble.hpp"
 #include "page.hpp"
+#include "retreat/agent/controller_registry.hpp"
 #include "retreat/experiment/subcommands.hpp"
 #include "retreat/report/figures.hpp"
 #include "retreat/scenario/scenario.hpp"
@@ -47,11 +48,8 @@ const std::vector<Noise>& noises() {
   return all;
 }
 
-/// The rules that correct their estimate for a known sensor (their agent.missed_onsets and
-/// agent.false_onsets are read by confident_density).
-bool corrects(const std::string& rule) {
-  return rule == "confident-proportional" || rule == "influx-matching" || rule == "adaptive-proportional";
-}
+/// The rules that correct their estimate for a known sensor (Controller::corrects_sensor).
+bool corrects(const std::string& rule) { return agent::make_controller(rule)->corrects_sensor(); }
 
 struct Row {
   std::string scenario, noise, rule;

@@ -1,11 +1,9 @@
 #include "retreat/experiment/prediction.hpp"
 
 #include <algorithm>
-#include <array>
 #include <cstdint>
 #include <memory>
 #include <stdexcept>
-#include <string_view>
 
 #include "retreat/agent/controller_registry.hpp"
 #include "retreat/agent/onset_window.hpp"
@@ -18,11 +16,6 @@
 
 namespace retreat::experiment {
 namespace {
-
-/// The rules whose chance at a step is a function of the window count alone (and the
-/// configured parameters): the chain's N is all the state they need.
-constexpr std::array<std::string_view, 4> count_only_rules = {"paper", "confident", "confident-proportional",
-                                                             "influx-matching"};
 
 double area_of(const physics::WorldParams& a) {
   return a.shape == physics::DomainShape::ellipse ? physics::Domain::ellipse(a.semi_axis_x, a.semi_axis_y).area()
@@ -110,13 +103,13 @@ std::vector<double> robot_by_robot_chain(const scenario::Scenario& s, const std:
 
 std::optional<std::vector<double>> predicted_population(const scenario::Scenario& s, const std::string& controller,
                                                         double duration) {
-  if (std::find(count_only_rules.begin(), count_only_rules.end(), controller) == count_only_rules.end()) {
-    return std::nullopt;
-  }
+  // Only a rule whose chance is a function of the window count alone (Controller::count_only):
+  // the chain's N is all the state it needs.
+  const auto rule = agent::make_controller(controller);
+  if (!rule->count_only()) return std::nullopt;
   const double area = area_of(s.arena);
   const double c = model::swept_rate(s.model);
   const auto& agent = s.agent;
-  const auto rule = agent::make_controller(controller);
   const agent::OnsetWindow window(agent.L);
   const double inside = std::max(agent.L, rule->first_decision_after(agent));  // a full window
 

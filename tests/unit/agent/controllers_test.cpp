@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <stdexcept>
 #include <type_traits>
+#include <vector>
 
 #include "retreat/agent/confident_controller.hpp"
 #include "retreat/agent/controller_registry.hpp"
@@ -317,6 +318,71 @@ TEST(InfluxAwareController, TheConfidentVariantActsOnTheLoweredEstimate) {
   const double low = lower_confidence_density(high, s.model, s.agent.L, 1.0);
   EXPECT_DOUBLE_EQ(controller->retreat_probability(s.at(100.03, high)),
                    model::epsilon(low, s.lambda_star(), 0.0, s.agent.K_p) * s.agent.dt);
+}
+
+// --- What a rule says of itself (Controller::count_only, corrects_sensor) --------------------
+// The experiments trust these: the exact chain predicts only count-only rules, the noise
+// experiment tells only correcting rules the sensor's rates. Each claim is checked on the rule.
+
+// n onsets at the middles of n equal parts of (from, to): none on a step's time.
+std::vector<double> spread(int n, double from, double to) {
+  std::vector<double> t;
+  for (int i = 0; i < n; ++i) t.push_back(from + (i + 0.5) * (to - from) / n);
+  return t;
+}
+
+// A robot inside D from t = 0 with the sorted `onsets`, each added to its own window as the
+// agent adds them, stepped every dt up to `seconds` by a new rule `name`: the chance at each
+// step the rule decides.
+std::vector<double> chances(const std::string& name, const AgentParams& agent, const std::vector<double>& onsets,
+                            double seconds) {
+  const model::ModelParams model;
+  OnsetWindow window(agent.L);
+  const auto rule = make_controller(name);
+  std::vector<double> out;
+  std::size_t added = 0;
+  for (std::int64_t k = 1; static_cast<double>(k) * agent.dt <= seconds + 1e-9; ++k) {
+    const double t = static_cast<double>(k) * agent.dt;
+    while (added < onsets.size() && onsets[added] <= t) window.add(onsets[added++]);
+    if (t < rule->first_decision_after(agent)) continue;
+    const std::uint64_t y = window.count_at(t);
+    out.push_back(rule->retreat_probability(
+        {t, t, y, agent.L, agent.dt, model::mle_density(y, model.delta, model.v, agent.L), model, agent, window}));
+  }
+  return out;
+}
+
+TEST(Controllers, ThoseThatSayTheyAreCountOnlyGiveTheSameChanceForTheSameCountWhateverCameBefore) {
+  const AgentParams agent;
+  const double end = 400.0, from = end - agent.L;  // the last step's window: (from, end]
+  int count_only = 0;
+  for (const auto& name : controller_names()) {
+    if (!make_controller(name)->count_only()) continue;
+    ++count_only;
+    for (const int y : {0, 4, 8, 16, 32}) {
+      // Crowded before the window and y onsets spread over it; calm before and y onsets at its end.
+      auto crowded = spread(120, 0.0, from), calm = spread(5, 0.0, from);
+      for (const double t : spread(y, from, end)) crowded.push_back(t);
+      for (const double t : spread(y, end - 10.0, end)) calm.push_back(t);
+      EXPECT_EQ(chances(name, agent, crowded, end).back(), chances(name, agent, calm, end).back())
+          << name << ", " << y << " onsets in the window";
+    }
+  }
+  EXPECT_EQ(count_only, 4);  // paper, confident, confident-proportional, influx-matching
+}
+
+TEST(Controllers, ThoseThatSayTheyCorrectForTheSensorReadItsRatesAndNoOtherDoes) {
+  AgentParams plain, told;
+  told.missed_onsets = 0.3;
+  told.false_onsets = 0.05;
+  for (const auto& name : controller_names()) {
+    bool differs = false;
+    for (const double rate : {0.05, 0.1, 0.2, 0.4, 0.8}) {  // onsets per second, calm to crowded
+      const auto onsets = spread(static_cast<int>(rate * 300.0), 0.0, 300.0);
+      differs = differs || chances(name, plain, onsets, 300.0) != chances(name, told, onsets, 300.0);
+    }
+    EXPECT_EQ(differs, make_controller(name)->corrects_sensor()) << name;
+  }
 }
 
 }  // namespace

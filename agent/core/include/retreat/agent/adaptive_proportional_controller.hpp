@@ -93,6 +93,7 @@ class AdaptiveProportionalController final : public Controller {
   double first_decision_after(const AgentParams& /*agent*/) const override { return 0.0; }
 
   std::string_view name() const override { return registered_name; }
+  bool corrects_sensor() const override { return true; }
   std::unique_ptr<Controller> clone() const override {
     return std::make_unique<AdaptiveProportionalController>(*this);
   }

@@ -46,6 +46,7 @@ class ConfidentController final : public Controller {
   double retreat_probability(const ControllerInput& input) override;
 
   std::string_view name() const override { return registered_name; }
+  bool count_only() const override { return true; }
   std::unique_ptr<Controller> clone() const override { return std::make_unique<ConfidentController>(*this); }
 
  private:

@@ -53,6 +53,16 @@ class Controller {
   /// The registered name (`paper`, ...), as written in the scenario's `agent.controller`.
   virtual std::string_view name() const = 0;
 
+  /// Whether the chance at a step, once the window is full (time_inside >= L), is a function of
+  /// the window count and the parameters alone: no state, no time. The experiments' exact chain
+  /// then predicts the rule (deploy/experiment/prediction.cpp). Tested for every rule that says so.
+  virtual bool count_only() const { return false; }
+
+  /// Whether the rule corrects its estimate for a known sensor: reads `agent.missed_onsets` and
+  /// `agent.false_onsets` (the noise experiment compares it told and not told). Tested both ways
+  /// for every registered rule.
+  virtual bool corrects_sensor() const { return false; }
+
   /// A copy of this controller, state and all, for looking ahead (RetreatAgent::plan): stepping
   /// the copy leaves this one unchanged.
   virtual std::unique_ptr<Controller> clone() const = 0;

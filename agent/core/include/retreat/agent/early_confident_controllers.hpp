@@ -63,6 +63,8 @@ class ConfidentProportionalController final : public Controller {
   double first_decision_after(const AgentParams& /*agent*/) const override { return 0.0; }
 
   std::string_view name() const override { return registered_name; }
+  bool count_only() const override { return true; }
+  bool corrects_sensor() const override { return true; }
   std::unique_ptr<Controller> clone() const override { return std::make_unique<ConfidentProportionalController>(*this); }
 
  private:
@@ -100,6 +102,8 @@ class InfluxMatchingController final : public Controller {
   double first_decision_after(const AgentParams& /*agent*/) const override { return 0.0; }
 
   std::string_view name() const override { return registered_name; }
+  bool count_only() const override { return true; }
+  bool corrects_sensor() const override { return true; }
   std::unique_ptr<Controller> clone() const override { return std::make_unique<InfluxMatchingController>(*this); }
 
  private:
