@@ -65,6 +65,23 @@ void report(const std::string& dir) {
   }
 }
 
+/// What the command line asks of the HTTP server besides the state: HTTPS, a token.
+bridge::ServerOptions server_options(const bridge::BridgeCommandLine& command_line) {
+  bridge::ServerOptions options;
+  options.tls_cert = command_line.tls_cert;
+  options.tls_key = command_line.tls_key;
+  options.token = command_line.token;
+  return options;
+}
+
+/// The line tools and tests wait for: the URL served on @p port.
+void announce(const bridge::BridgeCommandLine& command_line, int port) {
+  std::printf("retreat-bridge: serving %s://%s:%d/%s\n", command_line.tls_cert.empty() ? "http" : "https",
+              command_line.address.host.c_str(), port,
+              command_line.token.empty() ? "" : " (a token is required: open /?token=TOKEN)");
+  std::fflush(stdout);
+}
+
 /// The summary.json's modification time, if it exists.
 std::optional<fs::file_time_type> summary_time(const std::string& dir) {
   std::error_code ec;
@@ -154,14 +171,19 @@ int serve(const bridge::BridgeCommandLine& command_line) {
   bridge::LiveState state{telemetry::Aggregator(report::run_info(s))};
   std::unique_ptr<bridge::Receiver> receiver;
   const bridge::Server* serving_server = nullptr;
-  bridge::ServerOptions options;
+  auto options = server_options(command_line);
   options.run_dir = out_dir;
   options.extra_metrics = bridge_metrics(serving_server, receiver);
-  bridge::Server server(state, options);
-  serving_server = &server;
+  std::optional<bridge::Server> server;
+  try {
+    server.emplace(state, options);
+  } catch (const std::invalid_argument& e) {
+    return fail(2, e.what());
+  }
+  serving_server = &*server;
   int port = 0;
   try {
-    port = server.bind(command_line.address);
+    port = server->bind(command_line.address);
   } catch (const std::exception& e) {
     return fail(2, command_line.address_origin + " " + e.what());
   }
@@ -190,10 +212,8 @@ int serve(const bridge::BridgeCommandLine& command_line) {
       }
     });
   });
-  std::thread serving([&] { server.serve(); });
-
-  std::printf("retreat-bridge: serving http://%s:%d/\n", command_line.address.host.c_str(), port);
-  std::fflush(stdout);
+  std::thread serving([&] { server->serve(); });
+  announce(command_line, port);
   std::fprintf(stderr, "retreat-bridge: %s on %s domain %d, prefix '%s'%s%s\n", s.name.c_str(),
                std::string(retreat::name_of(s.dds.vendor)).c_str(), s.dds.domain, s.dds.prefix.c_str(),
                out_dir.empty() ? "" : ", recording into ", out_dir.c_str());
@@ -202,7 +222,7 @@ int serve(const bridge::BridgeCommandLine& command_line) {
   sigwait(&stop_signals, &signo);
   std::fprintf(stderr, "retreat-bridge: stopping (signal %d)\n", signo);
   stop.store(true);
-  server.stop();
+  server->stop();
   serving.join();
   receiving.join();
   receiver.reset();
@@ -237,12 +257,17 @@ int serve_replay(const bridge::BridgeCommandLine& command_line) {
   } catch (const std::invalid_argument& e) {
     return fail(2, "--replay '" + command_line.replay + "': " + e.what());
   }
-  bridge::ServerOptions options;
+  auto options = server_options(command_line);
   options.replay = &*player;
-  bridge::Server server(state, options);
+  std::optional<bridge::Server> server;
   int port = 0;
   try {
-    port = server.bind(command_line.address);
+    server.emplace(state, options);
+  } catch (const std::invalid_argument& e) {
+    return fail(2, e.what());
+  }
+  try {
+    port = server->bind(command_line.address);
   } catch (const std::exception& e) {
     return fail(2, command_line.address_origin + " " + e.what());
   }
@@ -253,10 +278,9 @@ int serve_replay(const bridge::BridgeCommandLine& command_line) {
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
   });
-  std::thread serving([&] { server.serve(); });
+  std::thread serving([&] { server->serve(); });
+  announce(command_line, port);
   const auto p = player->position();
-  std::printf("retreat-bridge: serving http://%s:%d/\n", command_line.address.host.c_str(), port);
-  std::fflush(stdout);
   std::fprintf(stderr, "retreat-bridge: replaying %s (%s, ticks %lld..%lld, %zu telemetry samples)\n",
                command_line.replay.c_str(), s.name.c_str(), static_cast<long long>(p.first_tick),
                static_cast<long long>(p.last_tick), recording.telemetry.size());
@@ -264,7 +288,7 @@ int serve_replay(const bridge::BridgeCommandLine& command_line) {
   sigwait(&stop_signals, &signo);
   std::fprintf(stderr, "retreat-bridge: stopping (signal %d)\n", signo);
   stop.store(true);
-  server.stop();
+  server->stop();
   serving.join();
   playing.join();
   return 0;

@@ -6,6 +6,7 @@ if(RETREAT_WITH_FASTDDS OR RETREAT_WITH_CYCLONEDDS)
   retreat_test(bridge_test
     SOURCES ${CMAKE_CURRENT_LIST_DIR}/bridge_api_test.cpp ${CMAKE_CURRENT_LIST_DIR}/bridge_input_test.cpp
       ${CMAKE_CURRENT_LIST_DIR}/bridge_swarm_test.cpp ${CMAKE_CURRENT_LIST_DIR}/bridge_replay_test.cpp
+      ${CMAKE_CURRENT_LIST_DIR}/bridge_security_test.cpp
       ${CMAKE_CURRENT_LIST_DIR}/bridge_support.cpp
     DEPS retreat::transports retreat::report retreat::testing nlohmann_json::nlohmann_json PkgConfig::HTTPLIB
     LABELS integration)

@@ -60,6 +60,37 @@ TEST(BridgeBadInput, AMalformedHttpAddressGivesOneLineAndExitCodeTwo) {
                              "bridge.http");
 }
 
+TEST(BridgeBadInput, BeyondLoopbackWithoutATokenAndBadTlsOrTokenFilesGiveOneLineAndExitCodeTwo) {
+  const auto scenario = scenario_file();
+  const std::string dir = ::testing::TempDir() + "/bridge_input_tls";
+  fs::create_directories(dir);
+  const auto write = [&](const std::string& name, const std::string& text) {
+    std::ofstream(dir + "/" + name) << text;
+    return dir + "/" + name;
+  };
+  const auto good_token = write("token", "0123456789abcdef0123\n");
+  const std::vector<std::string> live = {"--scenario", scenario, "--dds", "inmemory"};
+  const auto with = [&](std::vector<std::string> more) {
+    auto args = live;
+    args.insert(args.end(), more.begin(), more.end());
+    return args;
+  };
+  expect_one_line_and_exit_2(with({"--http", "0.0.0.0:0"}),
+                             "--http = '0.0.0.0:0' is beyond loopback: give --token-file FILE");
+  expect_one_line_and_exit_2(with({"--set", "bridge.http=10.1.2.3:8080"}), "bridge.http = '10.1.2.3:8080' is beyond loopback");
+  expect_one_line_and_exit_2({"--replay", "/nonexistent.mcap", "--http", "0.0.0.0:0"}, "is beyond loopback");
+  expect_one_line_and_exit_2(with({"--tls-cert", write("cert.pem", "x")}), "--tls-cert without --tls-key");
+  expect_one_line_and_exit_2(with({"--tls-key", write("key.pem", "x")}), "--tls-key without --tls-cert");
+  expect_one_line_and_exit_2(with({"--token-file", good_token, "--no-token"}), "--token-file and --no-token");
+  expect_one_line_and_exit_2(with({"--token-file", dir + "/missing"}), "--token-file '" + dir + "/missing': cannot read it");
+  expect_one_line_and_exit_2(with({"--token-file", write("short", "abc\n")}), "must be 16 to 4096 characters");
+  expect_one_line_and_exit_2(with({"--token-file", write("spaces", "0123456789 abcdef0123\n")}), "with others");
+  expect_one_line_and_exit_2(with({"--http", "127.0.0.1:0", "--tls-cert", dir + "/missing.pem", "--tls-key", dir + "/key.pem"}),
+                             "TLS certificate '" + dir + "/missing.pem': cannot read it");
+  expect_one_line_and_exit_2(with({"--http", "127.0.0.1:0", "--tls-cert", dir + "/cert.pem", "--tls-key", dir + "/key.pem"}),
+                             "not a PEM certificate chain and its matching private key");
+}
+
 TEST(BridgeBadInput, APortAlreadyInUseGivesOneLineAndExitCodeTwo) {
   // Hold a port on 127.0.0.1 with a plain listening socket.
   const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);

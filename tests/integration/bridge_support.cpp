@@ -37,15 +37,16 @@ Bridge start_bridge(const std::vector<std::string>& args, const std::string& log
   std::vector<std::string> argv = {RETREAT_BRIDGE_BIN};
   argv.insert(argv.end(), args.begin(), args.end());
   b.process.emplace(argv, log);
-  const std::string marker = "retreat-bridge: serving http://";
+  // "retreat-bridge: serving http://HOST:PORT/" or https, perhaps followed by a note.
+  const std::string marker = "retreat-bridge: serving ";
   eventually(
       [&] {
         const auto text = read_file(log);
         const auto at = text.find(marker);
         if (at != std::string::npos) {
-          const auto end = text.find('\n', at);
+          const auto end = text.find_first_of(" \n", at + marker.size());
           if (end != std::string::npos) {
-            b.url = text.substr(at + marker.size() - 7, end - (at + marker.size() - 7));
+            b.url = text.substr(at + marker.size(), end - (at + marker.size()));
             const auto colon = b.url.rfind(':');
             b.port = std::stoi(b.url.substr(colon + 1));
             return true;
@@ -149,7 +150,8 @@ std::string base64_decode(const std::string& in) {
 
 bool Browser::available() { return ::access(chromium_path().c_str(), X_OK) == 0; }
 
-Browser::Browser(const std::string& profile_dir, int width, int height, const std::string& log_path) {
+Browser::Browser(const std::string& profile_dir, int width, int height, const std::string& log_path,
+                 const std::vector<std::string>& extra_args) {
   fs::remove_all(profile_dir);
   fs::create_directories(profile_dir);
   int to_child[2], from_child[2];
@@ -169,8 +171,9 @@ Browser::Browser(const std::string& profile_dir, int width, int height, const st
                                    "--disable-dev-shm-usage",
                                    "--user-data-dir=" + profile_dir,
                                    "--remote-debugging-pipe",
-                                   "--window-size=" + std::to_string(width) + "," + std::to_string(height),
-                                   "about:blank"};
+                                   "--window-size=" + std::to_string(width) + "," + std::to_string(height)};
+  argv.insert(argv.end(), extra_args.begin(), extra_args.end());
+  argv.emplace_back("about:blank");
   std::vector<char*> args;
   for (auto& a : argv) args.push_back(a.data());
   args.push_back(nullptr);

@@ -20,7 +20,7 @@ namespace retreat::testing::bridge {
 /// Where tests leave files for people (screenshots): RETREAT_TEST_OUTPUT_DIR, created.
 std::string output_dir();
 
-/// A running retreat-bridge and the URL it printed (`http://127.0.0.1:PORT/`).
+/// A running retreat-bridge and the URL it printed (`http://127.0.0.1:PORT/`, or https).
 struct Bridge {
   std::optional<ChildProcess> process;
   std::string url;
@@ -54,8 +54,10 @@ int status_of(const std::string& response);
 class Browser {
  public:
   /// Starts /usr/bin/chromium (or $RETREAT_CHROMIUM) with a fresh profile in `profile_dir`,
-  /// opens a page of `width` × `height` CSS pixels. @throws std::runtime_error when it fails.
-  Browser(const std::string& profile_dir, int width, int height, const std::string& log_path);
+  /// opens a page of `width` × `height` CSS pixels; `extra_args` are added to Chromium's
+  /// command line. @throws std::runtime_error when it fails.
+  Browser(const std::string& profile_dir, int width, int height, const std::string& log_path,
+          const std::vector<std::string>& extra_args = {});
   ~Browser();
   Browser(const Browser&) = delete;
   Browser& operator=(const Browser&) = delete;

@@ -10,7 +10,9 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
+#include <string_view>
 #include <thread>
+#include <utility>
 
 #include "retreat/bridge/json.hpp"
 #include "retreat/report/report.hpp"
@@ -69,21 +71,74 @@ bool is_run_file(const std::string& name) {
   return false;
 }
 
+namespace {
+
+/// Plain HTTP, or HTTPS with the options' certificate and key.
+std::unique_ptr<httplib::Server> make_http(const ServerOptions& o) {
+  if (o.tls_cert.empty() && o.tls_key.empty()) return std::make_unique<httplib::Server>();
+  if (o.tls_cert.empty() || o.tls_key.empty()) {
+    throw std::invalid_argument("TLS needs a certificate and its private key (got only the " +
+                                std::string(o.tls_cert.empty() ? "key" : "certificate") + ")");
+  }
+  for (const auto& [what, path] : {std::pair{"certificate", o.tls_cert}, std::pair{"private key", o.tls_key}}) {
+    if (!std::ifstream(path)) throw std::invalid_argument(std::string("TLS ") + what + " '" + path + "': cannot read it");
+  }
+  auto https = std::make_unique<httplib::SSLServer>(o.tls_cert.c_str(), o.tls_key.c_str());
+  if (!https->is_valid()) {
+    throw std::invalid_argument("TLS certificate '" + o.tls_cert + "' and key '" + o.tls_key +
+                                "': not a PEM certificate chain and its matching private key");
+  }
+  return https;
+}
+
+/// Whether two secrets are equal, in a time that does not depend on where they differ.
+bool same_secret(std::string_view given, std::string_view secret) {
+  if (secret.empty()) return false;
+  unsigned diff = given.size() == secret.size() ? 0u : 1u;
+  for (std::size_t i = 0; i < given.size(); ++i) {
+    diff |= static_cast<unsigned char>(given[i]) ^ static_cast<unsigned char>(secret[i % secret.size()]);
+  }
+  return diff == 0;
+}
+
+/// The value of cookie @p name in a request's Cookie header ("a=1; b=2"), or empty.
+std::string cookie(const httplib::Request& req, std::string_view name) {
+  const auto header = req.get_header_value("Cookie");
+  std::size_t at = 0;
+  while (at < header.size()) {
+    const auto end = std::min(header.find(';', at), header.size());
+    auto pair = std::string_view(header).substr(at, end - at);
+    while (!pair.empty() && pair.front() == ' ') pair.remove_prefix(1);
+    if (pair.size() > name.size() && pair.substr(0, name.size()) == name && pair[name.size()] == '=') {
+      return std::string(pair.substr(name.size() + 1));
+    }
+    at = end + 1;
+  }
+  return {};
+}
+
+constexpr std::string_view token_cookie = "retreat_token";
+
+}  // namespace
+
 struct Server::Impl {
   LiveState& state;
   ServerOptions options;
-  httplib::Server http;
+  std::unique_ptr<httplib::Server> server;
+  httplib::Server& http;
   std::atomic<bool> stopping{false};
   std::array<std::atomic<std::uint64_t>, 6> responses{};
   std::atomic<bool> serving{false};
   bool bound = false;
 
-  Impl(LiveState& s, ServerOptions o) : state(s), options(std::move(o)) {}
+  Impl(LiveState& s, ServerOptions o)
+      : state(s), options(std::move(o)), server(make_http(options)), http(*server) {}
 };
 
 Server::Server(LiveState& state, ServerOptions options)
     : impl_(std::make_unique<Impl>(state, std::move(options))) {
   configure_connections();
+  require_token();
   add_page_routes();
   add_state_routes();
   add_event_stream_route();
@@ -123,6 +178,38 @@ void Server::configure_connections() {
         plain_error(res, 500, "500 internal error");
       });
   http.set_default_headers({{"X-Content-Type-Options", "nosniff"}});
+}
+
+/// ServerOptions::token: every request carries it (a bearer header or the cookie), or gets 401;
+/// GET /?token=TOKEN sets the cookie and sends the page to / without it.
+void Server::require_token() {
+  auto* impl = impl_.get();
+  if (impl->options.token.empty()) return;
+  const bool https = !impl->options.tls_cert.empty();
+  impl->http.set_pre_routing_handler([impl, https](const httplib::Request& req, httplib::Response& res) {
+    using Result = httplib::Server::HandlerResponse;
+    const auto& token = impl->options.token;
+    const auto refuse = [&res] {
+      res.set_header("WWW-Authenticate", "Bearer realm=\"retreat-bridge\"");
+      plain_error(res, 401, "401 a token is required: Authorization: Bearer TOKEN, or open /?token=TOKEN");
+      return Result::Handled;
+    };
+    if (req.has_param("token") && req.method == "GET" && (req.path == "/" || req.path == "/index.html")) {
+      if (!same_secret(req.get_param_value("token"), token)) return refuse();
+      res.status = 303;
+      res.set_header("Location", req.path);
+      res.set_header("Set-Cookie", std::string(token_cookie) + "=" + token + "; Path=/; HttpOnly; SameSite=Strict" +
+                                       (https ? "; Secure" : ""));
+      no_store(res);
+      return Result::Handled;
+    }
+    constexpr std::string_view bearer = "Bearer ";
+    const auto authorization = req.get_header_value("Authorization");
+    const bool by_header = authorization.size() > bearer.size() && authorization.compare(0, bearer.size(), bearer) == 0 &&
+                           same_secret(std::string_view(authorization).substr(bearer.size()), token);
+    if (by_header || same_secret(cookie(req, token_cookie), token)) return Result::Unhandled;
+    return refuse();
+  });
 }
 
 /// The dashboard's page and its assets, embedded in the program.

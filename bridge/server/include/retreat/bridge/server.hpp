@@ -17,6 +17,8 @@
 ///   GET, POST /api/replay  with --replay: the position in the recording, seek, play, pause
 ///                          (server.cpp, add_replay_routes)
 ///
+/// Optionally HTTPS and a bearer token (ServerOptions::tls_cert, tls_key, token).
+///
 /// Limits: request bodies over 64 KiB get 413, request lines over 8 KiB 414, headers over
 /// 8 KiB 400; a client that stalls is dropped after 2 s; at most 8 event streams at once (503
 /// beyond), each closed after 5 minutes (EventSource reconnects).
@@ -50,6 +52,15 @@ struct ServerOptions {
   std::function<void(telemetry::PrometheusWriter&)> extra_metrics;
   /// With --replay: the player /api/replay moves (must outlive the server); null when live.
   ReplayPlayer* replay = nullptr;
+  /// HTTPS with this certificate chain and private key (PEM files), or plain HTTP when both are
+  /// empty (docs/security.md, "The bridge beyond loopback").
+  std::string tls_cert;
+  std::string tls_key;
+  /// Every request must carry it (empty: none is asked for): `Authorization: Bearer TOKEN` (a
+  /// Prometheus scrape, curl), or the cookie `retreat_token`, which a page opened as
+  /// `/?token=TOKEN` gets (303 to `/`, HttpOnly, SameSite=Strict, Secure over HTTPS), so that
+  /// the dashboard's own requests and its event stream carry it. Anything else gets 401.
+  std::string token;
 };
 
 /// Files a run directory may serve, and nothing else.
@@ -57,11 +68,12 @@ bool is_run_file(const std::string& name);
 
 class Server {
  public:
-  Server(LiveState& state, ServerOptions options);
   ~Server();
   Server(const Server&) = delete;
   Server& operator=(const Server&) = delete;
 
+  /// @throws std::invalid_argument with one line when the TLS certificate or key cannot be used.
+  Server(LiveState& state, ServerOptions options);
   /// Binds the listening socket; returns the port (the chosen one for port 0).
   /// @throws std::runtime_error with one line (the address and errno's text) on failure.
   int bind(const HttpAddress& address);
@@ -80,6 +92,7 @@ class Server {
   void add_event_stream_route();
   void add_run_file_routes();
   void add_replay_routes();
+  void require_token();
 
   struct Impl;
   std::unique_ptr<Impl> impl_;
