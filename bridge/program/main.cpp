@@ -65,13 +65,45 @@ void report(const std::string& dir) {
   }
 }
 
-/// What the command line asks of the HTTP server besides the state: HTTPS, a token.
-bridge::ServerOptions server_options(const bridge::BridgeCommandLine& command_line) {
-  bridge::ServerOptions options;
+/// The HTTP server with @p options and the command line's HTTPS and token, bound to its address;
+/// @p port is set to the port bound. @throws std::invalid_argument with one line (bad input).
+std::unique_ptr<bridge::Server> bound_server(bridge::LiveState& state, bridge::ServerOptions options,
+                                             const bridge::BridgeCommandLine& command_line, int& port) {
   options.tls_cert = command_line.tls_cert;
   options.tls_key = command_line.tls_key;
   options.token = command_line.token;
-  return options;
+  auto server = std::make_unique<bridge::Server>(state, std::move(options));
+  try {
+    port = server->bind(command_line.address);
+  } catch (const std::runtime_error& e) {
+    throw std::invalid_argument(command_line.address_origin + " " + e.what());
+  }
+  return server;
+}
+
+/// Serves on a thread of its own from construction until stop() (or destruction).
+class ServingThread {
+ public:
+  explicit ServingThread(bridge::Server& server) : server_(server), thread_([this] { server_.serve(); }) {}
+  ~ServingThread() { stop(); }
+  ServingThread(const ServingThread&) = delete;
+  ServingThread& operator=(const ServingThread&) = delete;
+  void stop() {
+    if (!thread_.joinable()) return;
+    server_.stop();
+    thread_.join();
+  }
+
+ private:
+  bridge::Server& server_;
+  std::thread thread_;
+};
+
+/// Blocks until SIGINT or SIGTERM (blocked beforehand in @p signals) and says which.
+void wait_for_stop_signal(const sigset_t& signals) {
+  int signo = 0;
+  sigwait(&signals, &signo);
+  std::fprintf(stderr, "retreat-bridge: stopping (signal %d)\n", signo);
 }
 
 /// The line tools and tests wait for: the URL served on @p port.
@@ -171,22 +203,17 @@ int serve(const bridge::BridgeCommandLine& command_line) {
   bridge::LiveState state{telemetry::Aggregator(report::run_info(s))};
   std::unique_ptr<bridge::Receiver> receiver;
   const bridge::Server* serving_server = nullptr;
-  auto options = server_options(command_line);
+  bridge::ServerOptions options;
   options.run_dir = out_dir;
   options.extra_metrics = bridge_metrics(serving_server, receiver);
-  std::optional<bridge::Server> server;
+  std::unique_ptr<bridge::Server> server;
+  int port = 0;
   try {
-    server.emplace(state, options);
+    server = bound_server(state, std::move(options), command_line, port);
   } catch (const std::invalid_argument& e) {
     return fail(2, e.what());
   }
-  serving_server = &*server;
-  int port = 0;
-  try {
-    port = server->bind(command_line.address);
-  } catch (const std::exception& e) {
-    return fail(2, command_line.address_origin + " " + e.what());
-  }
+  serving_server = server.get();
 
   std::unique_ptr<transport::Transport> transport;
   try {
@@ -212,18 +239,15 @@ int serve(const bridge::BridgeCommandLine& command_line) {
       }
     });
   });
-  std::thread serving([&] { server->serve(); });
+  ServingThread serving(*server);
   announce(command_line, port);
   std::fprintf(stderr, "retreat-bridge: %s on %s domain %d, prefix '%s'%s%s\n", s.name.c_str(),
                std::string(retreat::name_of(s.dds.vendor)).c_str(), s.dds.domain, s.dds.prefix.c_str(),
                out_dir.empty() ? "" : ", recording into ", out_dir.c_str());
 
-  int signo = 0;
-  sigwait(&stop_signals, &signo);
-  std::fprintf(stderr, "retreat-bridge: stopping (signal %d)\n", signo);
+  wait_for_stop_signal(stop_signals);
   stop.store(true);
-  server->stop();
-  serving.join();
+  serving.stop();
   receiving.join();
   receiver.reset();
   transport.reset();
@@ -257,19 +281,14 @@ int serve_replay(const bridge::BridgeCommandLine& command_line) {
   } catch (const std::invalid_argument& e) {
     return fail(2, "--replay '" + command_line.replay + "': " + e.what());
   }
-  auto options = server_options(command_line);
+  bridge::ServerOptions options;
   options.replay = &*player;
-  std::optional<bridge::Server> server;
+  std::unique_ptr<bridge::Server> server;
   int port = 0;
   try {
-    server.emplace(state, options);
+    server = bound_server(state, std::move(options), command_line, port);
   } catch (const std::invalid_argument& e) {
     return fail(2, e.what());
-  }
-  try {
-    port = server->bind(command_line.address);
-  } catch (const std::exception& e) {
-    return fail(2, command_line.address_origin + " " + e.what());
   }
   std::atomic<bool> stop{false};
   std::thread playing([&] {
@@ -278,18 +297,15 @@ int serve_replay(const bridge::BridgeCommandLine& command_line) {
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
   });
-  std::thread serving([&] { server->serve(); });
+  ServingThread serving(*server);
   announce(command_line, port);
   const auto p = player->position();
   std::fprintf(stderr, "retreat-bridge: replaying %s (%s, ticks %lld..%lld, %zu telemetry samples)\n",
                command_line.replay.c_str(), s.name.c_str(), static_cast<long long>(p.first_tick),
                static_cast<long long>(p.last_tick), recording.telemetry.size());
-  int signo = 0;
-  sigwait(&stop_signals, &signo);
-  std::fprintf(stderr, "retreat-bridge: stopping (signal %d)\n", signo);
+  wait_for_stop_signal(stop_signals);
   stop.store(true);
-  server->stop();
-  serving.join();
+  serving.stop();
   playing.join();
   return 0;
 }
