@@ -48,6 +48,10 @@ namespace {
 
 wire::Phase to_wire(physics::Phase p) { return static_cast<wire::Phase>(static_cast<std::uint8_t>(p)); }
 
+/// Lockstep waits past run.agent_timeout for agents still matched: reported on stderr this
+/// many times, then only counted (summary.json's slow_answers).
+constexpr std::uint64_t slow_answers_reported = 10;
+
 }  // namespace
 
 wire::ArenaTelemetry telemetry_message(const physics::Telemetry& t, std::uint32_t lost_agents,
@@ -373,9 +377,16 @@ bool ArenaNode::collect_available() {
 }
 
 bool ArenaNode::collect_lockstep(const KeepGoing& keep_going) {
-  const auto timeout = std::chrono::duration<double>(scenario_.run.agent_timeout);
+  using Duration = std::chrono::steady_clock::duration;
+  const auto wall = [](double seconds) {
+    return std::chrono::duration_cast<Duration>(std::chrono::duration<double>(seconds));
+  };
   const auto start = std::chrono::steady_clock::now();
-  const auto deadline = start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(timeout);
+  // Silent past run.agent_timeout: lost if its agent is gone from discovery, else waited for
+  // (a loaded machine is slow, not dead) until run.agent_hang_timeout.
+  const auto deadline = start + wall(scenario_.run.agent_timeout);
+  const auto hang_deadline = start + wall(scenario_.run.agent_hang_timeout);
+  bool waited = false;
   auto next_resend = start + robot::resend_interval;
   for (;;) {
     if (collect_available()) return true;
@@ -387,14 +398,35 @@ bool ArenaNode::collect_lockstep(const KeepGoing& keep_going) {
       resend_unanswered();
       next_resend += robot::resend_interval;
     }
-    if (std::chrono::steady_clock::now() >= deadline) {
+    if (const auto now = std::chrono::steady_clock::now(); now >= deadline) {
+      bool waiting = false;
       for (auto& r : robots_) {
-        if (r->expecting && !r->answered && !r->record.lost) declare_lost(*r, world_->telemetry().time);
+        if (!r->expecting || r->answered || r->record.lost) continue;
+        if (now < hang_deadline && agent_present(*r)) {
+          waiting = true;
+          if (!waited) ++counters_.slow_answers;
+          continue;
+        }
+        declare_lost(*r, world_->telemetry().time);
       }
-      return true;
+      if (waiting && !waited) {
+        waited = true;
+        if (counters_.slow_answers <= slow_answers_reported) {
+          std::fprintf(stderr,
+                       "retreat-arena: tick %lld: an agent silent for run.agent_timeout = %g s is still matched: "
+                       "waiting up to run.agent_hang_timeout = %g s%s\n",
+                       static_cast<long long>(tick()), scenario_.run.agent_timeout, scenario_.run.agent_hang_timeout,
+                       counters_.slow_answers == slow_answers_reported ? " (further waits are counted only)" : "");
+        }
+      }
+      if (!waiting) return true;
     }
     transport_.wait(5ms);
   }
+}
+
+bool ArenaNode::agent_present(const Robot& r) {
+  return r.endpoints.decisions.matched_count() > 0 || (r.plans && r.plans->matched_count() > 0);
 }
 
 void ArenaNode::resend_unanswered() {
@@ -518,6 +550,7 @@ RunSummary ArenaNode::finish(double wall_seconds) {
   const auto counters = decisions();
   s.decisions_dropped = counters.stale + counters.future + counters.unknown_robot + counters.invalid;
   s.frames_resent = counters_.resent_frames;
+  s.slow_answers = counters_.slow_answers;
   s.decisions_received = counters_.received;
   s.decisions_planned = counters_.planned;
   s.resumed_at_tick = resumed_at_tick_;

@@ -295,6 +295,7 @@ void RunRecorder::finish(const physics::World& world, const std::vector<AgentRec
   j["deliveries"] = last_.deliveries;
   j["decisions_dropped"] = summary.decisions_dropped;
   j["frames_resent"] = summary.frames_resent;
+  j["slow_answers"] = summary.slow_answers;
   j["decisions_received"] = summary.decisions_received;
   j["decisions_planned"] = summary.decisions_planned;
   if (summary.resumed_at_tick >= 0) j["resumed_at_tick"] = summary.resumed_at_tick;

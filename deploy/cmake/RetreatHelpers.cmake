@@ -85,12 +85,13 @@ function(retreat_program name)
   install(TARGETS ${name} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 endfunction()
 
-# retreat_test(<name> SOURCES ... DEPS ... [LABELS ...] [TIMEOUT s] [FIXTURES_REQUIRED ...])
+# retreat_test(<name> SOURCES ... DEPS ... [LABELS ...] [TIMEOUT s] [FIXTURES_REQUIRED ...]
+#              [RESOURCE_LOCK ...])
 # A GoogleTest executable registered with CTest (one CTest test per TEST()). TIMEOUT is a
 # ceiling against hangs, not a speed limit: the default is ten times what any test here needs on
 # a quiet machine, so that a loaded one (a build beside the suite) never fails by it.
 function(retreat_test name)
-  cmake_parse_arguments(ARG "" "TIMEOUT" "SOURCES;DEPS;LABELS;FIXTURES_REQUIRED" ${ARGN})
+  cmake_parse_arguments(ARG "" "TIMEOUT" "SOURCES;DEPS;LABELS;FIXTURES_REQUIRED;RESOURCE_LOCK" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_DEPS} GTest::gtest GTest::gtest_main)
   retreat_warnings(${name})
@@ -103,6 +104,9 @@ function(retreat_test name)
   set(fixtures "")
   if(ARG_FIXTURES_REQUIRED)
     set(fixtures FIXTURES_REQUIRED "${ARG_FIXTURES_REQUIRED}")
+  endif()
+  if(ARG_RESOURCE_LOCK)
+    list(APPEND fixtures RESOURCE_LOCK "${ARG_RESOURCE_LOCK}")
   endif()
   gtest_discover_tests(${name} PROPERTIES LABELS "${ARG_LABELS}" TIMEOUT ${ARG_TIMEOUT} ${fixtures}
     DISCOVERY_TIMEOUT 300)

@@ -1,12 +1,15 @@
 // retreat-arena with real retreat-agent processes over each vendor: runs complete, write their
 // run directory, give the same trajectory whatever carries the messages, survive a killed agent,
-// drop and count bad decisions, and refuse bad input with one line and exit code 2.
+// wait for a slow one, drop and count bad decisions, and refuse bad input with one line and exit
+// code 2. DDS domains: the arena_program block, and the robot_link_fastdds and mixed_swarm
+// blocks borrowed under the CTest resource lock dds_domains_90_97 (tests/integration/CMakeLists.txt).
 
 #include <gtest/gtest.h>
 #include <signal.h>
 
 #include <filesystem>
 #include <fstream>
+#include <thread>
 #include <nlohmann/json.hpp>
 
 #include "retreat/testing/domains.hpp"
@@ -78,11 +81,11 @@ TEST(ArenaProgram, ARunOverEitherVendorOrMixedGivesTheSameTrajectory) {
   const auto scenario = small_scenario();
   const std::vector<std::string> all_fast(4, "fastdds"), all_cyclone(4, "cyclonedds");
   const std::vector<std::string> mixed = {"fastdds", "cyclonedds", "fastdds", "cyclonedds"};
-  auto a = start(scenario, "fastdds", all_fast, 90, tmp + "/run_fast");
+  auto a = start(scenario, "fastdds", all_fast, testing::domains::robot_link_fastdds.at(0), tmp + "/run_fast");
   auto ja = finish(a, tmp + "/run_fast");
-  auto b = start(scenario, "cyclonedds", all_cyclone, 91, tmp + "/run_cyclone");
+  auto b = start(scenario, "cyclonedds", all_cyclone, testing::domains::robot_link_fastdds.at(1), tmp + "/run_cyclone");
   auto jb = finish(b, tmp + "/run_cyclone");
-  auto c = start(scenario, "cyclonedds", mixed, 92, tmp + "/run_mixed");
+  auto c = start(scenario, "cyclonedds", mixed, testing::domains::robot_link_fastdds.at(2), tmp + "/run_mixed");
   auto jc = finish(c, tmp + "/run_mixed");
   ASSERT_FALSE(ja.empty() || jb.empty() || jc.empty());
   EXPECT_EQ(ja["ticks"], 2000);
@@ -104,9 +107,9 @@ TEST(ArenaProgram, ADifferentSeedGivesADifferentTrajectory) {
   const std::string vendor = built("cyclonedds") ? "cyclonedds" : "fastdds";
   const auto scenario = small_scenario();
   const std::vector<std::string> agents(4, vendor);
-  auto a = start(scenario, vendor, agents, 93, tmp + "/run_seed11");
+  auto a = start(scenario, vendor, agents, testing::domains::robot_link_fastdds.at(3), tmp + "/run_seed11");
   auto ja = finish(a, tmp + "/run_seed11");
-  auto b = start(scenario, vendor, agents, 94, tmp + "/run_seed12", {"--set", "seed=12"});
+  auto b = start(scenario, vendor, agents, testing::domains::robot_link_fastdds.at(4), tmp + "/run_seed12", {"--set", "seed=12"});
   auto jb = finish(b, tmp + "/run_seed12");
   ASSERT_FALSE(ja.empty() || jb.empty());
   // Both runs had decisions to tell apart (otherwise the hashes could only differ by chance).
@@ -120,7 +123,7 @@ TEST(ArenaProgram, AKilledAgentIsDeclaredLostAndTheRunCompletes) {
   // agent in the middle.
   const auto scenario = small_scenario(1000);
   // K_p = λ_in = 0: ε ≡ 0, no robot ever retreats, so the killed agent's robot is still inside.
-  auto s = start(scenario, vendor, std::vector<std::string>(4, vendor), 95, tmp + "/run_kill",
+  auto s = start(scenario, vendor, std::vector<std::string>(4, vendor), testing::domains::mixed_swarm.at(0), tmp + "/run_kill",
                  {"--set", "agent.K_p=0", "--set", "agent.lambda_in=0"});
   std::this_thread::sleep_for(1500ms);
   ASSERT_TRUE(s.arena->running());
@@ -132,11 +135,36 @@ TEST(ArenaProgram, AKilledAgentIsDeclaredLostAndTheRunCompletes) {
   EXPECT_EQ(j["ticks"], 33334);
 }
 
+// A loaded machine makes an agent slow, not dead (run.agent_hang_timeout): robot 0's agent
+// stopped (SIGSTOP) for 4 s, four times run.agent_timeout but well within its participant's
+// lease (Cyclone DDS 10 s, Fast DDS 20 s), stays matched, is waited for, and answers when
+// continued: nobody is lost and the run completes. Declared lost at run.agent_timeout before.
+TEST(ArenaProgram, AnAgentThatIsSlowButStillThereIsWaitedForNotLost) {
+  const std::string vendor = built("cyclonedds") ? "cyclonedds" : "fastdds";
+  const auto scenario = small_scenario(1000);
+  // K_p = λ_in = 0: nobody retreats, so robot 0's agent is still answering when it is stopped.
+  auto s = start(scenario, vendor, std::vector<std::string>(4, vendor), testing::domains::mixed_swarm.at(1),
+                 tmp + "/run_slow", {"--set", "agent.K_p=0", "--set", "agent.lambda_in=0", "--set", "run.agent_timeout=1"});
+  std::this_thread::sleep_for(1500ms);
+  ASSERT_TRUE(s.arena->running());
+  s.agents[0].signal(SIGSTOP);
+  std::this_thread::sleep_for(4s);
+  s.agents[0].signal(SIGCONT);
+  const auto j = finish(s, tmp + "/run_slow");
+  ASSERT_FALSE(j.empty());
+  EXPECT_EQ(j["agents"]["started"], 4);
+  EXPECT_EQ(j["agents"]["lost"], 0);
+  EXPECT_GE(j["slow_answers"].get<std::uint64_t>(), 1u);
+  EXPECT_EQ(j["ticks"], 33334);
+  EXPECT_NE(testing::read_file(tmp + "/run_slow_arena.log").find("is still matched: waiting up to run.agent_hang_timeout"),
+            std::string::npos);
+}
+
 TEST(ArenaProgram, ARealTimeRunPacesTicksByTheClockAndCompletes) {
   const std::string vendor = built("cyclonedds") ? "cyclonedds" : "fastdds";
   // 30 simulated seconds at 20x: 1,000 ticks in about 1.5 wall seconds.
   const auto scenario = small_scenario(30);
-  auto s = start(scenario, vendor, std::vector<std::string>(4, vendor), 97, tmp + "/run_realtime",
+  auto s = start(scenario, vendor, std::vector<std::string>(4, vendor), testing::domains::mixed_swarm.at(2), tmp + "/run_realtime",
                  {"--set", "run.mode=realtime", "--set", "run.speed=20"});
   const auto j = finish(s, tmp + "/run_realtime");
   ASSERT_FALSE(j.empty());

@@ -122,6 +122,8 @@ TEST(ScenarioLoader, ANameOutsideAnEnumsTableListsTheNames) {
   expect_error("", {"arena.influx=bursty"}, "arena.influx = 'bursty': must be one of steady, poisson");
   expect_error("", {"dds.vendor=opensplice"},
                "dds.vendor = 'opensplice': must be one of fastdds, cyclonedds, inmemory");
+  expect_error("", {"run.agent_timeout=10", "run.agent_hang_timeout=9"},
+               "run.agent_hang_timeout = 9: must be >= run.agent_timeout (10 wall s)");
 }
 
 TEST(ScenarioKeys, TheKeysAreTheSerializedMembersInFileOrder) {
@@ -129,8 +131,8 @@ TEST(ScenarioKeys, TheKeysAreTheSerializedMembersInFileOrder) {
   // 52 with agent.missed_onsets, agent.false_onsets, arena.missed_onsets, arena.false_onsets
   // (issue 14); 56 with arena.external_robots, external_frozen_after, external_lost_after and
   // external_max_speed (issue 15); 58 with run.plans and run.plan_horizon (issue 13); 59 with
-  // run.recorders (issue 16).
-  ASSERT_EQ(keys.size(), 59u);
+  // run.recorders (issue 16); 60 with run.agent_hang_timeout (issue 13).
+  ASSERT_EQ(keys.size(), 60u);
   EXPECT_EQ(keys.front(), "name");
   EXPECT_EQ(keys[2], "model.lambda_p");
   EXPECT_EQ(keys[15], "arena.encounter_model");

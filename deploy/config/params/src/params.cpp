@@ -60,6 +60,8 @@ void validate_run(const RunParams& r) {
   check(std::isfinite(r.duration) && r.duration > 0, "run.duration", num(r.duration), "must be > 0 (s)");
   check(std::isfinite(r.agent_timeout) && r.agent_timeout > 0, "run.agent_timeout",
         num(r.agent_timeout), "must be > 0 (wall s)");
+  check(std::isfinite(r.agent_hang_timeout) && r.agent_hang_timeout >= r.agent_timeout, "run.agent_hang_timeout",
+        num(r.agent_hang_timeout), "must be >= run.agent_timeout (" + num(r.agent_timeout) + " wall s)");
   check(std::isfinite(r.startup_timeout) && r.startup_timeout > 0, "run.startup_timeout",
         num(r.startup_timeout), "must be > 0 (wall s)");
   check(std::isfinite(r.status_period) && r.status_period > 0, "run.status_period",

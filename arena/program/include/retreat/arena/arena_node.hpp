@@ -33,6 +33,9 @@ struct DecisionCounters {
   std::uint64_t unknown_robot = 0;  ///< robot the world does not have
   std::uint64_t invalid = 0;        ///< dropped by the transport's validation
   std::uint64_t resent_frames = 0;  ///< lockstep frames sent again because no answer came
+  /// Lockstep: robot-ticks whose agent was silent past run.agent_timeout but still there (its
+  /// answer writer matched), so the arena waited instead of declaring it lost.
+  std::uint64_t slow_answers = 0;
   std::uint64_t received = 0;       ///< valid decisions (or plans) taken from the wire
   std::uint64_t planned = 0;        ///< run.plans: robot-ticks decided by a plan, no frame sent
 };
@@ -130,6 +133,8 @@ class ArenaNode {
   /// going back in time or jumping), then freezes or loses those whose pose is too old.
   void take_external_poses();
   void resend_unanswered();
+  /// Whether robot @p r's agent is still there: a writer of its answers is matched.
+  static bool agent_present(const Robot& r);
   void publish_observations();
   /// step() and replay(): `journal` null means live (decisions from the wire, journalled).
   void advance(const RetreatJournal* journal);

@@ -64,6 +64,7 @@ struct RunSummary {
   std::uint32_t agents_lost = 0;
   std::uint64_t decisions_dropped = 0;  ///< unknown robot, past or future tick, invalid
   std::uint64_t frames_resent = 0;      ///< lockstep frames re-sent for want of an answer
+  std::uint64_t slow_answers = 0;       ///< lockstep: robot-ticks waited for past run.agent_timeout (agent still matched)
   std::uint64_t decisions_received = 0;  ///< decisions this arena process acted on or counted
   std::uint64_t decisions_planned = 0;   ///< run.plans: robot-ticks decided by a plan, no frame sent
   std::int64_t resumed_at_tick = -1;    ///< --resume: the tick this process took over at

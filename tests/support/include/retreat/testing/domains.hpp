@@ -49,8 +49,11 @@ inline constexpr DomainBlock agent_program{"agent program, Fast DDS", 80, 4};
 inline constexpr DomainBlock recording{"recorded runs (retreat-record), one after another; also deploy/bench/record_overhead.sh", 84, 1};
 inline constexpr DomainBlock agent_program_cyclonedds{"agent program, Cyclone DDS", 85, 4};
 inline constexpr DomainBlock experiment{"retreat-experiment", 89, 1};
-inline constexpr DomainBlock robot_link_fastdds{"robot link, Fast DDS", 90, 5};
-inline constexpr DomainBlock mixed_swarm{"mixed real-and-simulated swarm", 95, 3};
+// The arena program's tests borrow these two blocks: the three executables hold the CTest
+// resource lock dds_domains_90_97 (tests/integration/CMakeLists.txt), so none of them runs
+// beside another.
+inline constexpr DomainBlock robot_link_fastdds{"robot link, Fast DDS (and the arena program)", 90, 5};
+inline constexpr DomainBlock mixed_swarm{"mixed real-and-simulated swarm (and the arena program)", 95, 3};
 inline constexpr DomainBlock bridge{"retreat-bridge", 98, 3};
 inline constexpr DomainBlock launch_star{"retreat-launch, a star beyond one port block", 101, 1};
 inline constexpr DomainBlock multihost{"several hosts (network namespaces)", 150, 7, true};

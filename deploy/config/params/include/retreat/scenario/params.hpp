@@ -55,7 +55,13 @@ struct RunParams {
   RunMode mode = RunMode::lockstep;  ///< `lockstep` or `realtime`
   double speed = 1.0;             ///< real-time acceleration (simulated s per wall s), > 0
   double duration = 1200.0;       ///< simulated run length [s], > 0
-  double agent_timeout = 5.0;     ///< lockstep: an agent silent this long is lost [wall s], > 0
+  /// Lockstep: an agent silent this long whose answer writer the arena no longer matches (its
+  /// process ended, or its participant's lease expired) is lost [wall s], > 0.
+  double agent_timeout = 5.0;
+  /// Lockstep: an agent silent this long is lost even though its answer writer is still matched
+  /// (a hung process whose DDS threads keep it alive) [wall s], >= agent_timeout. A slow, loaded
+  /// machine is not a dead agent: until then the arena waits for an agent that is still there.
+  double agent_hang_timeout = 120.0;
   double startup_timeout = 60.0;  ///< lockstep: how long the arena waits for agents to match [wall s]
   double status_period = 1.0;     ///< agents publish their status this often [simulated s], > 0
   double telemetry_period = 0.1;  ///< the arena publishes telemetry and poses this often [simulated s]
@@ -75,6 +81,7 @@ struct RunParams {
     a("speed", speed);
     a("duration", duration);
     a("agent_timeout", agent_timeout);
+    a("agent_hang_timeout", agent_hang_timeout);
     a("startup_timeout", startup_timeout);
     a("status_period", status_period);
     a("telemetry_period", telemetry_period);
