@@ -153,7 +153,8 @@ for await (const m of reader.readMessages()) {
       r.answers += 1;
       r.answerTimes.add(sample.time);
       if (r.departedTimes.has(sample.time)) r.departedFrames += 1;
-      if (sample.retreat && r.firstRetreat === null) r.firstRetreat = Number(sample.tick);
+      // A plan may put its retreat past the run's last tick: the run ends first.
+      if (sample.retreat && r.firstRetreat === null && Number(sample.tick) < summary.ticks) r.firstRetreat = Number(sample.tick);
     }
   } else if (channel.topic === `${prefix}/arena_telemetry`) {
     telemetry += 1;
