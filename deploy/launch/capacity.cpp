@@ -173,14 +173,14 @@ std::uint32_t agent_threads(const std::string& vendor) {
 
 std::optional<std::string> capacity_refusal(const Plan& plan, const scenario::Scenario& s, std::uint32_t agents,
                                             const HostLimits& host) {
-  // Everyone in the domain on this host: the arena, the launcher's telemetry reader, the bridge,
-  // the recorder.
-  std::vector<std::string> others = {std::to_string(agents) + " agents", "the arena", "the launcher"};
+  // Everyone in the domain on this host besides the agents: the arena, the launcher's telemetry
+  // reader, the bridge, the recorder.
+  std::vector<std::string> others = {"the arena", "the launcher"};
   if (!plan.bridge_exe.empty()) others.emplace_back("the bridge");
   if (!plan.record_exe.empty()) others.emplace_back("the recorder");
-  const std::uint32_t participants = agents + static_cast<std::uint32_t>(others.size()) - 1;
-  std::string who = others.front();
-  for (std::size_t i = 1; i < others.size(); ++i) who += (i + 1 == others.size() ? " and " : ", ") + others[i];
+  const std::uint32_t participants = agents + static_cast<std::uint32_t>(others.size());
+  std::string who = std::to_string(agents) + " agents";
+  for (std::size_t i = 0; i < others.size(); ++i) who += (i + 1 == others.size() ? " and " : ", ") + others[i];
   // Agents are the many: their settings bound the domain (a star's hub has a fixed index).
   std::vector<std::string> vendors;
   for (std::uint32_t r = 0; r < std::min<std::uint32_t>(agents, 2); ++r) vendors.push_back(plan.vendors.agent(r));

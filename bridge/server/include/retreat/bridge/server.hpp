@@ -68,12 +68,12 @@ bool is_run_file(const std::string& name);
 
 class Server {
  public:
+  /// @throws std::invalid_argument with one line when the TLS certificate or key cannot be used.
+  Server(LiveState& state, ServerOptions options);
   ~Server();
   Server(const Server&) = delete;
   Server& operator=(const Server&) = delete;
 
-  /// @throws std::invalid_argument with one line when the TLS certificate or key cannot be used.
-  Server(LiveState& state, ServerOptions options);
   /// Binds the listening socket; returns the port (the chosen one for port 0).
   /// @throws std::runtime_error with one line (the address and errno's text) on failure.
   int bind(const HttpAddress& address);
