@@ -92,6 +92,15 @@ TEST(CapacityRefusal, CountsTheArenaTheLauncherAndTheBridgeBesideTheAgents) {
   EXPECT_NE(refused->find("star"), std::string::npos) << "names the way out: " << *refused;
   EXPECT_TRUE(capacity_refusal(plan_for("fastdds", true), s, 118, roomy)) << "the bridge is one more";
   EXPECT_TRUE(capacity_refusal(plan_for("mixed", true), s, 200, roomy));
+  // --record: the recorder is one more participant, and is named.
+  auto recorded = plan_for("cyclonedds", true);
+  recorded.record_exe = "/usr/bin/retreat-record";
+  EXPECT_FALSE(capacity_refusal(recorded, s, 116, roomy));  // 120
+  const auto with_recorder = capacity_refusal(recorded, s, 117, roomy);
+  ASSERT_TRUE(with_recorder);
+  EXPECT_NE(with_recorder->find("121 DDS participants (117 agents, the arena, the launcher, the bridge and the recorder)"),
+            std::string::npos)
+      << *with_recorder;
 }
 
 TEST(CapacityRefusal, ACycloneStarIsRefusedBeyondTheAgentsItWasMeasuredToRun) {
