@@ -12,7 +12,10 @@ packages=(
   # DDS Security: Cyclone's plugins (libdds_security_*.so) and openssl for the swarm PKI script
   libddsc0debian openssl
   # pure libraries and program plumbing
-  libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libcpp-httplib-dev libssl-dev
+  libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libssl-dev
+  # the bridge's HTTP server (Boost.Beast and Boost.Asio, headers only); cpp-httplib is the
+  # HTTP client of its tests
+  libboost1.74-dev libcpp-httplib-dev
   # the launcher reads DDS profile files (XML) for its capacity check
   libtinyxml2-dev
   # recordings (MCAP): zstd-compressed chunks, zlib's CRC-32

@@ -20,6 +20,7 @@
 
 #include <pthread.h>
 #include <signal.h>
+#include <sys/resource.h>
 
 #include <CLI/CLI.hpp>
 #include <atomic>
@@ -65,6 +66,16 @@ void report(const std::string& dir) {
   }
 }
 
+/// Raises the soft limit of open files to the hard one: every HTTP connection is a file, and the
+/// server holds at most as many as the soft limit leaves (ServerOptions::max_connections).
+void raise_open_file_limit() {
+  rlimit files{};
+  if (getrlimit(RLIMIT_NOFILE, &files) == 0 && files.rlim_cur < files.rlim_max) {
+    files.rlim_cur = files.rlim_max;
+    setrlimit(RLIMIT_NOFILE, &files);
+  }
+}
+
 /// The HTTP server with @p options and the command line's HTTPS and token, bound to its address;
 /// @p port is set to the port bound. @throws std::invalid_argument with one line (bad input).
 std::unique_ptr<bridge::Server> bound_server(bridge::LiveState& state, bridge::ServerOptions options,
@@ -72,6 +83,7 @@ std::unique_ptr<bridge::Server> bound_server(bridge::LiveState& state, bridge::S
   options.tls_cert = command_line.tls_cert;
   options.tls_key = command_line.tls_key;
   options.token = command_line.token;
+  raise_open_file_limit();
   auto server = std::make_unique<bridge::Server>(state, std::move(options));
   try {
     port = server->bind(command_line.address);
@@ -161,6 +173,15 @@ std::function<void(telemetry::PrometheusWriter&)> bridge_metrics(
       }
       out.family("retreat_bridge_event_streams", "gauge", "Open server-sent event streams.");
       out.sample(static_cast<double>(server->event_streams()));
+      out.family("retreat_bridge_http_connections", "gauge", "Open HTTP connections.");
+      out.sample(static_cast<double>(server->connections()));
+      out.family("retreat_bridge_http_connections_refused_total", "counter",
+                 "HTTP connections refused (503): the bridge, or their address with none waiting, held its limit.");
+      out.sample(static_cast<double>(server->connections_refused()));
+      out.family("retreat_bridge_http_connections_evicted_total", "counter",
+                 "HTTP connections waiting for a request, closed to make room for a new one from "
+                 "the same address.");
+      out.sample(static_cast<double>(server->connections_evicted()));
     }
     if (!receiver) return;
     const auto m = receiver->matched();

@@ -13,9 +13,11 @@
   const fmt = (v, digits) => (num(v) ? v.toFixed(digits) : '–');
   const fmtInt = (v) => (num(v) ? Math.round(v).toLocaleString('en-US') : '–');
 
-  // What tests and people can inspect: how many states arrived, how often the arena was drawn.
+  // What tests and people can inspect: how many states arrived, how often the arena was drawn,
+  // how long the last draws took (ms, newest last), when the population was first plotted (ms
+  // since the page's navigation began), and the agents' table: rows in all and rows in the DOM.
   const probe = { states: 0, time: -1, arenaFrames: 0, arenaTick: -1, robotsDrawn: 0, points: 0, historyLoads: 0,
-                  replay: null };
+                  replay: null, drawMs: [], firstPlotMs: -1, agents: 0, agentRowsShown: 0 };
   window.retreatDashboard = probe;
 
   let state = null;
@@ -204,36 +206,46 @@
       for (const p of poses.pickups) spot(p, COLORS.pickup, 'square');
       for (const p of poses.dropoffs) spot(p, COLORS.dropoff, 'diamond');
 
+      // One path per colour (and one for the headings): a thousand robots cost a handful of
+      // fills and strokes, not a thousand.
       probe.robotsDrawn = 0;
+      const byColor = new Map();
+      const headings = new Path2D();
+      const reaches = poses.robots.length <= 40 ? new Path2D() : null;
       for (const b of poses.robots) {
         if (!num(b.x) || !num(b.y)) continue;
         probe.robotsDrawn += 1;
         const color = b.phase === 'retreating' ? COLORS.retreating : b.loaded ? COLORS.loaded : COLORS.free;
         const cx = px(b.x);
         const cy = py(b.y);
-        if (poses.robots.length <= 40) {
-          ctx.beginPath();
-          ctx.arc(cx, cy, 2 * reach, 0, 2 * Math.PI);
-          ctx.strokeStyle = 'rgba(51,65,85,0.12)';
-          ctx.lineWidth = 1;
-          ctx.stroke();
+        if (reaches) {
+          reaches.moveTo(cx + 2 * reach, cy);
+          reaches.arc(cx, cy, 2 * reach, 0, 2 * Math.PI);
         }
-        ctx.beginPath();
-        ctx.arc(cx, cy, r, 0, 2 * Math.PI);
-        ctx.fillStyle = color;
-        ctx.fill();
-        ctx.lineWidth = 1;
-        ctx.strokeStyle = 'rgba(15,23,42,0.55)';
-        ctx.stroke();
+        let body = byColor.get(color);
+        if (!body) byColor.set(color, (body = new Path2D()));
+        body.moveTo(cx + r, cy);
+        body.arc(cx, cy, r, 0, 2 * Math.PI);
         if (num(b.theta)) {
-          ctx.beginPath();
-          ctx.moveTo(cx, cy);
-          ctx.lineTo(cx + Math.cos(b.theta) * r * 1.6, cy - Math.sin(b.theta) * r * 1.6);
-          ctx.strokeStyle = '#0f172a';
-          ctx.lineWidth = 1.5;
-          ctx.stroke();
+          headings.moveTo(cx, cy);
+          headings.lineTo(cx + Math.cos(b.theta) * r * 1.6, cy - Math.sin(b.theta) * r * 1.6);
         }
       }
+      if (reaches) {
+        ctx.strokeStyle = 'rgba(51,65,85,0.12)';
+        ctx.lineWidth = 1;
+        ctx.stroke(reaches);
+      }
+      for (const [color, body] of byColor) {
+        ctx.fillStyle = color;
+        ctx.fill(body);
+        ctx.lineWidth = 1;
+        ctx.strokeStyle = 'rgba(15,23,42,0.55)';
+        ctx.stroke(body);
+      }
+      ctx.strokeStyle = '#0f172a';
+      ctx.lineWidth = 1.5;
+      ctx.stroke(headings);
     }
 
     // Waiting robots: a queue outside the domain, on the left.
@@ -406,11 +418,15 @@
     $('inside-bar').dataset.level = off > 1.5 ? 'high' : off < 0.5 ? 'low' : 'ok';
   }
 
+  // The agents' table is virtual: all rows are kept as data, and only those in (or near) the
+  // scrolled view are in the DOM, between two spacer rows that keep the scroll height true.
+  const ROW_HEIGHT = 24;  // px, as style.css sets #agents tbody tr
+  let agentRows = [];
+
   function updateAgents() {
-    const body = $('agents').tBodies[0];
     // Robots in D (the kinetic world's poses list none: then nobody is known to have left).
     const inD = state.poses && state.poses.robots.length ? new Set(state.poses.robots.map((r) => r.id)) : null;
-    const rows = state.agents.map((a) => {
+    agentRows = state.agents.map((a) => {
       const gone = inD !== null && a.retreating && !inD.has(a.robot);
       const label = gone ? 'departed' : a.retreating ? 'retreating'
         : a.deciding ? (a.counted ? 'deciding' : 'deciding (stale)') : 'counting';
@@ -418,21 +434,54 @@
       return `<tr><td>${a.robot}</td><td><span class="chip ${cls}"></span>${label}</td>` +
         `<td>${fmt(a.lambda_hat, 3)}</td><td>${fmt(a.epsilon, 4)}</td><td>${a.onsets_in_window}</td></tr>`;
     });
-    const html = rows.length ? rows.join('') : '<tr><td colspan="5" class="muted">no agent status yet</td></tr>';
-    if (body.innerHTML !== html) body.innerHTML = html;
+    probe.agents = agentRows.length;
+    showAgentRows();
     const est = state.estimates;
     setText('estimates-note', est.count > 0 ? `${est.count} deciding, mean ${fmt(est.mean, 3)} /m²` : '');
+  }
+
+  function showAgentRows() {
+    const box = $('agents').parentElement;
+    const body = $('agents').tBodies[0];
+    const n = agentRows.length;
+    let html;
+    if (n === 0) {
+      html = '<tr><td colspan="5" class="muted">no agent status yet</td></tr>';
+      probe.agentRowsShown = 0;
+    } else {
+      const first = Math.min(n, Math.max(0, Math.floor(box.scrollTop / ROW_HEIGHT) - 5));
+      const last = Math.min(n, first + Math.ceil(box.clientHeight / ROW_HEIGHT) + 10);
+      const spacer = (rows) => (rows > 0 ? `<tr class="spacer" style="height:${rows * ROW_HEIGHT}px"><td colspan="5"></td></tr>` : '');
+      html = spacer(first) + agentRows.slice(first, last).join('') + spacer(n - last);
+      probe.agentRowsShown = last - first;
+    }
+    if (body.innerHTML !== html) body.innerHTML = html;
+  }
+
+  let agentScrollPending = false;
+  function onAgentsScroll() {
+    if (agentScrollPending) return;
+    agentScrollPending = true;
+    requestAnimationFrame(() => {
+      agentScrollPending = false;
+      showAgentRows();
+    });
   }
 
   function draw() {
     drawPending = false;
     if (!state) return;
+    const began = performance.now();
     updateCounters();
     updateAgents();
     drawArena();
     drawHistogram();
     if (popPlot) popPlot.setData([series.time, series.inside, series.optimum, series.waiting]);
     probe.points = series.time.length;
+    const now = performance.now();
+    if (popPlot && probe.points > 0 && probe.firstPlotMs < 0) probe.firstPlotMs = now;
+    probe.drawMs.push(now - began);
+    if (probe.drawMs.length > 200) probe.drawMs.shift();
   }
 
   function scheduleDraw() {
@@ -600,6 +649,7 @@
 
   async function start() {
     makePopulationPlot();
+    $('agents').parentElement.addEventListener('scroll', onAgentsScroll, { passive: true });
     if (await pollReplay()) setUpReplay();
     try {
       const res = await fetch('api/state', { cache: 'no-store' });

@@ -9,12 +9,15 @@
 # Usage:
 #   deploy/bench/bridge_load.sh [--bridge PATH] [--out DIR] [--cases 'CASE ...']
 #   --bridge PATH   retreat-bridge (default $RETREAT_BUILD_DIR/bridge/retreat-bridge, build/...)
-#   --cases LIST    space-separated `streams=S,half_open=H` (default: the issue's table and aims:
-#                   nothing; 16 and 40 streams; 8 and 64 half-open; 60 half-open; 60 half-open
-#                   with 40 streams; 200 streams; 500 half-open)
+#   --cases LIST    space-separated `streams=S,half_open=H[,trickle=T][,from=ADDR]`
+#                   (bridge_load.py says what each is; default: the table: nothing; 16
+#                   and 40 streams; 8 and 64 half-open; 60 half-open; 60 half-open with 40
+#                   streams; then its aims: 200 streams; 500 half-open, and 250 half-open with
+#                   250 trickling, each from the measuring client's own address and from another;
+#                   all of it at once)
 #
 # Output: one JSON line per case (DIR/results.jsonl) and a Markdown table on stdout (also
-# DIR/results.md): p50/p99/max in ms of 40 requests per endpoint (fewer when they take over 30 s
+# DIR/results.md): p50/p99/max in ms of 200 requests per endpoint (fewer when they take over 30 s
 # in all; the count is in brackets), each on a new connection with a 10 s limit (failed: no 200
 # within it), the streams open at the end and the 503s they got.
 # The aims: /metrics and /api/state within 100 ms at p99 with 200 streams, and with 500
@@ -25,7 +28,7 @@ here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 root=$(cd "$here/../.." && pwd)
 bridge=${RETREAT_BUILD_DIR:-$root/build}/bridge/retreat-bridge
 out=""
-cases="streams=0,half_open=0 streams=16,half_open=0 streams=40,half_open=0 streams=0,half_open=8 streams=0,half_open=64 streams=0,half_open=60 streams=40,half_open=60 streams=200,half_open=0 streams=0,half_open=500"
+cases="streams=0,half_open=0 streams=16,half_open=0 streams=40,half_open=0 streams=0,half_open=8 streams=0,half_open=64 streams=0,half_open=60 streams=40,half_open=60 streams=200,half_open=0 streams=0,half_open=500 streams=0,half_open=500,from=127.0.0.2 streams=0,half_open=250,trickle=250 streams=0,half_open=250,trickle=250,from=127.0.0.2 streams=200,half_open=250,trickle=250,from=127.0.0.2"
 usage() { sed -n '2,/^set -euo/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//'; }
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -38,8 +41,8 @@ while [ $# -gt 0 ]; do
 done
 [ -x "$bridge" ] || { echo "bridge_load.sh: no retreat-bridge at '$bridge' (--bridge PATH)" >&2; exit 2; }
 for c in $cases; do
-  [[ $c =~ ^streams=[0-9]+,half_open=[0-9]+$ ]] ||
-    { echo "bridge_load.sh: case '$c': must be streams=S,half_open=H" >&2; exit 2; }
+  [[ $c =~ ^streams=[0-9]+,half_open=[0-9]+(,trickle=[0-9]+)?(,from=127\.[0-9]+\.[0-9]+\.[0-9]+)?$ ]] ||
+    { echo "bridge_load.sh: case '$c': must be streams=S,half_open=H[,trickle=T][,from=127.X.Y.Z]" >&2; exit 2; }
 done
 command -v unshare >/dev/null || { echo "bridge_load.sh: needs unshare (util-linux)" >&2; exit 2; }
 
@@ -73,9 +76,9 @@ rows = [json.loads(line) for line in open(sys.argv[1])]
 def cell(r):
     n = f' ({r["failed"]} of {r["requests"]} failed)' if r["failed"] else f' ({r["requests"]})'
     return ("–" if r["p50_ms"] is None else f'{r["p50_ms"]} / {r["p99_ms"]} / {r["max_ms"]}') + n
-print("| streams | half-open | /metrics p50 / p99 / max (ms) | /api/state p50 / p99 / max (ms) | streams open | stream 503s |")
-print("|---:|---:|---|---|---:|---:|")
+print("| streams | half-open | trickling | from | /metrics p50 / p99 / max (ms) | /api/state p50 / p99 / max (ms) | streams open | stream 503s |")
+print("|---:|---:|---:|---|---|---|---:|---:|")
 for r in rows:
-    print(f'| {r["streams"]} | {r["half_open"]} | {cell(r["metrics"])} | {cell(r["state"])} | {r["streams_open"]} | {r["stream_503s"]} |')
+    print(f'| {r["streams"]} | {r["half_open"]} | {r["trickle"]} | {r["from"]} | {cell(r["metrics"])} | {cell(r["state"])} | {r["streams_open"]} | {r["stream_503s"]} |')
 EOF
 echo "bridge_load.sh: results in $out"

@@ -17,5 +17,11 @@ if(RETREAT_WITH_FASTDDS OR RETREAT_WITH_CYCLONEDDS)
     RETREAT_ARENA_BIN="$<TARGET_FILE:retreat-arena>"
     RETREAT_TEST_OUTPUT_DIR="${CMAKE_CURRENT_BINARY_DIR}/test-output"
     RETREAT_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
-  add_dependencies(bridge_test retreat-bridge retreat-agent retreat-arena)
+  add_dependencies(bridge_test retreat-bridge retreat-agent retreat-arena retreat_scripted_swarm)
+  # A scripted swarm's observation topics (the dashboard with 1,000 robots, and
+  # deploy/bench/bridge_page.sh).
+  add_executable(retreat_scripted_swarm ${CMAKE_CURRENT_LIST_DIR}/scripted_swarm.cpp)
+  target_link_libraries(retreat_scripted_swarm PRIVATE retreat::transports)
+  retreat_warnings(retreat_scripted_swarm)
+  target_compile_definitions(bridge_test PRIVATE RETREAT_SCRIPTED_SWARM_BIN="$<TARGET_FILE:retreat_scripted_swarm>")
 endif()

@@ -2,12 +2,8 @@
 
 #include <arpa/inet.h>
 #include <netinet/in.h>
-#include <sys/socket.h>
-#include <unistd.h>
 
-#include <cerrno>
 #include <charconv>
-#include <cstring>
 #include <stdexcept>
 
 namespace retreat::bridge {
@@ -31,25 +27,6 @@ HttpAddress parse_http_address(const std::string& text, const std::string& what)
   in_addr parsed{};
   if (inet_pton(AF_INET, a.host.c_str(), &parsed) != 1) throw fail();
   return a;
-}
-
-std::string probe_bind(const HttpAddress& address) {
-  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-  if (fd < 0) return std::strerror(errno);
-  int yes = 1;
-  ::setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
-  sockaddr_in sa{};
-  sa.sin_family = AF_INET;
-  sa.sin_port = htons(static_cast<std::uint16_t>(address.port));
-  inet_pton(AF_INET, address.host.c_str(), &sa.sin_addr);
-  std::string why;
-  if (::bind(fd, reinterpret_cast<const sockaddr*>(&sa), sizeof sa) != 0) {
-    why = std::strerror(errno);
-  } else if (::listen(fd, 1) != 0) {
-    why = std::strerror(errno);
-  }
-  ::close(fd);
-  return why;
 }
 
 }  // namespace retreat::bridge

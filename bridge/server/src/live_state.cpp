@@ -5,14 +5,11 @@
 namespace retreat::bridge {
 
 void LiveState::update(const std::function<void(telemetry::Aggregator&)>& update) {
-  bool moved = false;
-  {
-    std::lock_guard lock(mutex_);
-    const auto before = aggregator_.version();
-    update(aggregator_);
-    moved = aggregator_.version() != before;
-  }
-  if (moved) changed_.notify_all();
+  std::lock_guard lock(mutex_);
+  update(aggregator_);
+  // Every update moves our version on, also one that put in a new aggregator (a replay seeking
+  // back), whose own count starts again and may even come back to the old count.
+  ++version_;
 }
 
 telemetry::Snapshot LiveState::snapshot() const {
@@ -22,7 +19,7 @@ telemetry::Snapshot LiveState::snapshot() const {
 
 std::pair<std::string, std::uint64_t> LiveState::state_text() const {
   std::lock_guard lock(mutex_);
-  const auto v = aggregator_.version();
+  const auto v = version_;
   if (state_cache_version_ != v) {
     state_cache_ = state_json(aggregator_.snapshot()).dump();
     state_cache_version_ = v;
@@ -32,7 +29,7 @@ std::pair<std::string, std::uint64_t> LiveState::state_text() const {
 
 std::string LiveState::history_text() const {
   std::lock_guard lock(mutex_);
-  const auto v = aggregator_.version();
+  const auto v = version_;
   if (history_cache_version_ != v) {
     const auto s = aggregator_.snapshot();
     history_cache_ = history_json(aggregator_.history(), s.history_spacing, s.history_compactions).dump();
@@ -50,26 +47,7 @@ std::string LiveState::metrics_text(const std::function<void(telemetry::Promethe
 
 std::uint64_t LiveState::version() const {
   std::lock_guard lock(mutex_);
-  return aggregator_.version();
-}
-
-std::uint64_t LiveState::wait_for_change(std::uint64_t seen, std::chrono::milliseconds timeout) const {
-  std::unique_lock lock(mutex_);
-  changed_.wait_for(lock, timeout, [&] { return closed_ || aggregator_.version() != seen; });
-  return aggregator_.version();
-}
-
-void LiveState::close() {
-  {
-    std::lock_guard lock(mutex_);
-    closed_ = true;
-  }
-  changed_.notify_all();
-}
-
-bool LiveState::closed() const {
-  std::lock_guard lock(mutex_);
-  return closed_;
+  return version_;
 }
 
 }  // namespace retreat::bridge

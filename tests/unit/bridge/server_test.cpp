@@ -4,8 +4,13 @@
 
 #include "retreat/bridge/server.hpp"
 
+#include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <httplib.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -14,6 +19,7 @@
 
 #include "prometheus_check.hpp"
 #include "retreat/bridge/receiver.hpp"
+#include "retreat/testing/process.hpp"
 #include "retreat/transport/inmemory.hpp"
 
 namespace retreat::bridge {
@@ -231,10 +237,199 @@ TEST_F(ServerTest, EventStreamsBeyondTheLimitGet503AndTheServerStillAnswers) {
   EXPECT_EQ(server_->event_streams(), 1u);
   server_->stop();
   first.join();
-  // The stream's slot is given back when httplib's worker finishes the response, which can be
-  // just after the client has read its end; serve() returns only once every worker has.
+  // The stream's slot is given back when its session ends, which can be just after the client
+  // has read its end; serve() returns only once every session has.
   serving_.join();
   EXPECT_EQ(server_->event_streams(), 0u);
+}
+
+/// Event streams on raw sockets, read together: each one's `id:` lines (the state's versions).
+class Viewers {
+ public:
+  Viewers(int port, std::size_t count) {
+    sockaddr_in sa{};
+    sa.sin_family = AF_INET;
+    sa.sin_port = htons(static_cast<std::uint16_t>(port));
+    inet_pton(AF_INET, "127.0.0.1", &sa.sin_addr);
+    const std::string request = "GET /api/events HTTP/1.1\r\nHost: x\r\n\r\n";
+    for (std::size_t i = 0; i < count; ++i) {
+      const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+      if (fd < 0 || ::connect(fd, reinterpret_cast<const sockaddr*>(&sa), sizeof sa) != 0 ||
+          ::send(fd, request.data(), request.size(), MSG_NOSIGNAL) != static_cast<ssize_t>(request.size())) {
+        if (fd >= 0) ::close(fd);
+        continue;
+      }
+      fds_.push_back(fd);
+    }
+    text_.resize(fds_.size());
+    ids_.resize(fds_.size());
+    parsed_.resize(fds_.size(), 0);
+  }
+  ~Viewers() {
+    for (int fd : fds_) ::close(fd);
+  }
+  Viewers(const Viewers&) = delete;
+  Viewers& operator=(const Viewers&) = delete;
+
+  std::size_t open() const { return fds_.size(); }
+  /// Reads whatever has arrived, waiting up to @p wait for the first bytes.
+  void read(std::chrono::milliseconds wait) {
+    std::vector<pollfd> polled;
+    for (int fd : fds_) polled.push_back({fd, POLLIN, 0});
+    if (::poll(polled.data(), polled.size(), static_cast<int>(wait.count())) <= 0) return;
+    char buffer[65536];
+    for (std::size_t i = 0; i < polled.size(); ++i) {
+      if ((polled[i].revents & (POLLIN | POLLHUP)) == 0) continue;
+      const auto n = ::recv(fds_[i], buffer, sizeof buffer, MSG_DONTWAIT);
+      if (n > 0) text_[i].append(buffer, static_cast<std::size_t>(n));
+      // Complete events only: "id: N" up to the blank line that ends the event.
+      for (;;) {
+        const auto at = text_[i].find("\nid: ", parsed_[i]);
+        if (at == std::string::npos) break;
+        const auto end = text_[i].find("\n\n", at);
+        if (end == std::string::npos) break;
+        ids_[i].push_back(std::stoull(text_[i].substr(at + 5)));
+        parsed_[i] = end;
+      }
+    }
+  }
+  /// Reads until every viewer's last event has version @p v (false after the hang ceiling).
+  bool reach(std::uint64_t v) {
+    return testing::eventually(
+        [&] {
+          read(20ms);
+          return all_at(v);
+        },
+        testing::hang_ceiling);
+  }
+  /// Whether every viewer's last event has version @p v.
+  bool all_at(std::uint64_t v) const {
+    for (const auto& ids : ids_) {
+      if (ids.empty() || ids.back() != v) return false;
+    }
+    return true;
+  }
+  const std::vector<std::vector<std::uint64_t>>& ids() const { return ids_; }
+
+ private:
+  std::vector<int> fds_;
+  std::vector<std::string> text_;
+  std::vector<std::vector<std::uint64_t>> ids_;
+  std::vector<std::size_t> parsed_;
+};
+
+TEST_F(ServerTest, TwoHundredEventStreamsGetEveryUpdateInOrder) {
+  publish(1, 1.0);
+  start();
+  Viewers viewers(port_, 200);
+  ASSERT_EQ(viewers.open(), 200u);
+  // The state at connection, then each update once every viewer has the one before: every
+  // viewer gets every version, in order.
+  std::vector<std::uint64_t> published = {state_.version()};
+  ASSERT_TRUE(viewers.reach(published.back()));
+  EXPECT_EQ(server_->event_streams(), 200u);
+  for (int k = 2; k <= 6; ++k) {
+    publish(static_cast<std::uint32_t>(k), k);
+    published.push_back(state_.version());
+    ASSERT_TRUE(viewers.reach(published.back())) << "update " << k;
+  }
+  for (const auto& ids : viewers.ids()) ASSERT_EQ(ids, published);
+  // Updates faster than events are sent: a viewer may skip states in between, but it never
+  // goes back and it ends at the newest.
+  for (int k = 7; k <= 30; ++k) publish(static_cast<std::uint32_t>(k), k);
+  ASSERT_TRUE(viewers.reach(state_.version()));
+  for (const auto& ids : viewers.ids()) {
+    EXPECT_TRUE(std::is_sorted(ids.begin(), ids.end()) && std::adjacent_find(ids.begin(), ids.end()) == ids.end());
+  }
+  const auto r = server_->responses();
+  EXPECT_EQ(r[2], 200u);  // one 200 per stream, nothing else
+  EXPECT_EQ(r[5], 0u);
+}
+
+TEST_F(ServerTest, HeadRangesMethodsAndABusyReportQueue) {
+  ServerOptions o;
+  o.max_queued = 0;  // no report may wait: /report is always busy
+  start(o);
+  auto c = client();
+  const auto whole = c.Get("/app.js");
+  ASSERT_TRUE(whole);
+  ASSERT_EQ(whole->status, 200);
+  EXPECT_EQ(whole->get_header_value("Accept-Ranges"), "bytes");
+  // HEAD: GET's headers, no body.
+  auto res = c.Head("/app.js");
+  ASSERT_TRUE(res);
+  EXPECT_EQ(res->status, 200);
+  EXPECT_EQ(res->get_header_value("Content-Length"), std::to_string(whole->body.size()));
+  EXPECT_TRUE(res->body.empty());
+  res = c.Head("/runs/telemetry.csv");
+  ASSERT_TRUE(res);
+  EXPECT_EQ(res->get_header_value("Content-Length"), std::to_string(std::string("tick,time,inside\n0,0,3\n").size()));
+  // Ranges: a part, the last bytes, one past the end.
+  res = c.Get("/app.js", {{"Range", "bytes=10-19"}});
+  ASSERT_TRUE(res);
+  EXPECT_EQ(res->status, 206);
+  EXPECT_EQ(res->body, whole->body.substr(10, 10));
+  EXPECT_EQ(res->get_header_value("Content-Range"), "bytes 10-19/" + std::to_string(whole->body.size()));
+  res = c.Get("/app.js", {{"Range", "bytes=-5"}});
+  ASSERT_TRUE(res);
+  EXPECT_EQ(res->status, 206);
+  EXPECT_EQ(res->body, whole->body.substr(whole->body.size() - 5));
+  res = c.Get("/app.js", {{"Range", "bytes=" + std::to_string(whole->body.size()) + "-"}});
+  ASSERT_TRUE(res);
+  EXPECT_EQ(res->status, 416);
+  EXPECT_EQ(res->get_header_value("Content-Range"), "bytes */" + std::to_string(whole->body.size()));
+  // A method a path does not take: 405 naming the ones it does.
+  res = c.Post("/api/state", "x", "text/plain");
+  ASSERT_TRUE(res);
+  EXPECT_EQ(res->status, 405);
+  EXPECT_EQ(res->get_header_value("Allow"), "GET, HEAD");
+  res = c.Get("/api/replay?play=%zz");
+  ASSERT_TRUE(res);
+  EXPECT_EQ(res->status, 400);  // a broken escape
+  // A report while the queue is full: 503 with a time to come back.
+  res = c.Get("/report");
+  ASSERT_TRUE(res);
+  EXPECT_EQ(res->status, 503);
+  EXPECT_EQ(res->get_header_value("Retry-After"), "2");
+  EXPECT_EQ(c.Get("/api/state")->status, 200);
+}
+
+TEST_F(ServerTest, AReportIsRenderedOnAWorker) {
+  start();
+  auto c = client();
+  // The run directory has no summary yet: the worker's answer is the report's refusal.
+  const auto res = c.Get("/report");
+  ASSERT_TRUE(res);
+  EXPECT_EQ(res->status, 409);
+  EXPECT_EQ(res->body.rfind("409 no report yet: ", 0), 0u) << res->body;
+}
+
+TEST_F(ServerTest, AStreamGetsANewAggregatorsStateEvenWhenItsCountIsBack) {
+  publish(2, 1.0);
+  publish(3, 2.0);
+  start();
+  Viewers viewer(port_, 1);
+  ASSERT_EQ(viewer.open(), 1u);
+  ASSERT_TRUE(viewer.reach(state_.version()));
+  const auto before = state_.version();
+  // What a replay seeking back does: a new aggregator, brought to the same count of samples as
+  // the old one had, with another state.
+  state_.update([](telemetry::Aggregator& a) {
+    const auto count = a.version();
+    a = telemetry::Aggregator(run());
+    wire::ArenaTelemetry t;
+    t.inside = 9;
+    while (a.version() < count) {
+      t.time += 0.5;
+      t.tick += 1;
+      a.on_telemetry(t);
+    }
+  });
+  EXPECT_GT(state_.version(), before);
+  ASSERT_TRUE(viewer.reach(state_.version()));
+  const auto r = client().Get("/api/state");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(json::parse(r->body)["telemetry"]["inside"], 9);
 }
 
 TEST_F(ServerTest, ABodyOverTheLimitGets413) {

@@ -2,7 +2,7 @@
 //   * only the vendor adapters (idl/fastdds/, idl/cyclonedds/) include Fast DDS, Fast CDR or
 //     Cyclone DDS headers, or the code generated from the IDL by either vendor;
 //   * the pure libraries (agent/model, agent/core, arena/physics, idl/wire, idl/transport,
-//     idl/core) include none of the program plumbing: yaml-cpp, CLI11, cpp-httplib, nlohmann json;
+//     idl/core) include none of the program plumbing: yaml-cpp, CLI11, cpp-httplib, Boost, nlohmann json;
 //   * no arrow runs back up: the rooms have an order (rooms(), bottom first, as the root
 //     CMakeLists.txt adds them), and a room includes `retreat/...` headers only from rooms
 //     below it (rooms on one level do not include each other). A header is placed by where
@@ -64,7 +64,7 @@ bool is_vendor_header(const std::string& header) {
 
 /// Program plumbing a pure library must not use.
 bool is_plumbing_header(const std::string& header) {
-  for (const char* dir : {"yaml-cpp/", "CLI/", "nlohmann/"}) {
+  for (const char* dir : {"yaml-cpp/", "CLI/", "nlohmann/", "boost/"}) {
     if (starts_with(header, dir)) return true;
   }
   const auto name = fs::path(header).filename().string();

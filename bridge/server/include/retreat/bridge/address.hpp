@@ -15,8 +15,4 @@ struct HttpAddress {
 /// @throws std::invalid_argument with one line naming the value and what is allowed.
 HttpAddress parse_http_address(const std::string& text, const std::string& what);
 
-/// Why a port could not be bound, as one line (errno's text), or empty when it can be: binds a
-/// probe socket with SO_REUSEADDR (as the server does) and closes it at once.
-std::string probe_bind(const HttpAddress& address);
-
 }  // namespace retreat::bridge

@@ -5,7 +5,6 @@
 /// of an unchanged state cost one rendering.
 
 #include <chrono>
-#include <condition_variable>
 #include <cstdint>
 #include <functional>
 #include <mutex>
@@ -20,7 +19,7 @@ class LiveState {
  public:
   explicit LiveState(telemetry::Aggregator aggregator) : aggregator_(std::move(aggregator)) {}
 
-  /// Runs `update` on the aggregator under the lock and wakes every waiter if the version moved.
+  /// Runs `update` on the aggregator under the lock; the version moves on.
   void update(const std::function<void(telemetry::Aggregator&)>& update);
 
   telemetry::Snapshot snapshot() const;
@@ -30,20 +29,14 @@ class LiveState {
   std::string history_text() const;
   /// Prometheus text of the swarm, followed by `extra` (the server's own families).
   std::string metrics_text(const std::function<void(telemetry::PrometheusWriter&)>& extra = {}) const;
+  /// Moves on with every update(), never back (unlike the aggregator's own count, which starts
+  /// again when a replay seeking back puts in a new aggregator).
   std::uint64_t version() const;
-
-  /// Blocks until the version differs from `seen`, `close()` was called, or the timeout passes.
-  /// Returns the current version.
-  std::uint64_t wait_for_change(std::uint64_t seen, std::chrono::milliseconds timeout) const;
-  /// Wakes every waiter for good (shutdown).
-  void close();
-  bool closed() const;
 
  private:
   mutable std::mutex mutex_;
-  mutable std::condition_variable changed_;
   telemetry::Aggregator aggregator_;
-  bool closed_ = false;
+  std::uint64_t version_ = 0;
   mutable std::uint64_t state_cache_version_ = ~std::uint64_t{0};
   mutable std::string state_cache_;
   mutable std::uint64_t history_cache_version_ = ~std::uint64_t{0};

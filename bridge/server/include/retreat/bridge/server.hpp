@@ -1,34 +1,44 @@
 #pragma once
 /// @file
-/// The bridge's HTTP server (cpp-httplib): the dashboard, the JSON API, server-sent events,
-/// Prometheus metrics and the run directory's files. Requests are served on httplib's worker
-/// threads from the mutex-protected LiveState; nothing here touches DDS.
+/// The bridge's HTTP server: the dashboard, the JSON API, server-sent events, Prometheus metrics
+/// and the run directory's files, over Boost.Beast on Boost.Asio (event-driven: a connection
+/// costs a socket and a buffer, never a thread). Nothing here touches DDS; requests read the
+/// mutex-protected LiveState.
 ///
 ///   GET /                  the dashboard (index.html, app.js, style.css, vendor/uPlot.*)
 ///   GET /api/state         current snapshot (JSON)
 ///   GET /api/history       time series (JSON, one array per field)
 ///   GET /api/events        server-sent events: `event: state` with the snapshot on each change
-///                          (at most 10 per second), a comment line every 15 s when idle
+///                          (at most one per event_min_interval), a comment line when idle
 ///   GET /api/runs          the run directory's downloadable files (JSON)
 ///   GET /metrics           Prometheus text format 0.0.4
 ///   GET /runs/<file>       telemetry.csv, agents.csv, summary.json, scenario.yaml,
 ///                          encounters.csv, agent_status.csv, report.html (from --out)
-///   GET /report            a report of the run directory rendered now (HTML)
+///   GET /report            a report of the run directory rendered now (HTML), on a worker
 ///   GET, POST /api/replay  with --replay: the position in the recording, seek, play, pause
-///                          (server.cpp, add_replay_routes)
+///                          (server.cpp, replay_route)
+/// HEAD is answered wherever GET is, ranges (`Range: bytes=`) on the page's files.
 ///
 /// Optionally HTTPS and a bearer token (ServerOptions::tls_cert, tls_key, token).
 ///
-/// Limits: request bodies over 64 KiB get 413, request lines over 8 KiB 414, headers over
-/// 8 KiB 400; a client that stalls is dropped after 2 s; at most 8 event streams at once (503
-/// beyond), each closed after 5 minutes (EventSource reconnects).
+/// Clients that misbehave cost the others nothing (docs/security.md, "Clients that misbehave"):
+/// a request's line and headers must arrive within read_timeout of the server starting to wait
+/// for them, and its body too; a request line over 8 KiB gets 414, headers over 8 KiB 431, a
+/// body over max_payload 413. A new connection from an address that holds
+/// max_connections_per_address connections closes the oldest of them that waits for a request
+/// (stalled, trickling or idle); if none waits, or the server holds max_connections, the new
+/// one is answered 503 and closed. A report asked for while max_queued reports wait gets 503.
+///
+/// Event streams: the broadcaster looks at the state every event_min_interval; a changed state
+/// is made into one event whose bytes are written to every stream. A stream still writing an
+/// older event gets the newest when that write ends (states in between are skipped, never
+/// queued); a stream whose write stalls for write_timeout is closed.
 
-#include <atomic>
+#include <array>
 #include <chrono>
 #include <cstdint>
 #include <functional>
 #include <memory>
-#include <mutex>
 #include <string>
 
 #include "retreat/bridge/address.hpp"
@@ -39,12 +49,19 @@ namespace retreat::bridge {
 
 struct ServerOptions {
   std::string run_dir;  ///< files under /runs/ (empty: none)
-  std::size_t threads = 16;
-  std::size_t max_event_streams = 8;
+  std::size_t io_threads = 2;  ///< threads running the event loop (serve() is one of them)
+  std::size_t workers = 1;     ///< threads rendering reports (/report)
+  std::size_t max_queued = 8;  ///< reports waiting for a worker before /report answers 503
+  std::size_t max_connections = 4096;  ///< at most the open-file limit less 128
+  std::size_t max_connections_per_address = 256;
+  std::size_t max_event_streams = 1024;
   std::size_t max_payload = 64 * 1024;
-  std::chrono::seconds read_timeout{2};
-  std::chrono::seconds write_timeout{5};
-  std::chrono::seconds keep_alive_timeout{2};
+  std::size_t max_requests_per_connection = 100;
+  /// Time for a request's line and headers (and again for its body), and for a TLS handshake;
+  /// also how long a kept-alive connection may idle before its next request.
+  std::chrono::milliseconds read_timeout{2000};
+  /// Time for one write; a reader that takes no bytes for that long is dropped.
+  std::chrono::milliseconds write_timeout{5000};
   std::chrono::seconds event_stream_lifetime{300};
   std::chrono::milliseconds event_min_interval{100};
   std::chrono::seconds event_keep_alive{15};
@@ -83,20 +100,20 @@ class Server {
   void stop();
   /// Requests answered so far, by status class (index 1..5 for 1xx..5xx).
   std::array<std::uint64_t, 6> responses() const;
-  std::size_t event_streams() const { return event_streams_.load(); }
-
- private:
-  void configure_connections();
-  void add_page_routes();
-  void add_state_routes();
-  void add_event_stream_route();
-  void add_run_file_routes();
-  void add_replay_routes();
-  void require_token();
+  std::size_t event_streams() const;
+  /// Connections open now.
+  std::size_t connections() const;
+  /// Connections refused (answered 503 and closed): the server held max_connections, or their
+  /// address held max_connections_per_address and none of them was waiting for a request.
+  std::uint64_t connections_refused() const;
+  /// Connections closed to make room for a new one from the same address (the oldest of the
+  /// address's connections waiting for a request).
+  std::uint64_t connections_evicted() const;
 
   struct Impl;
-  std::unique_ptr<Impl> impl_;
-  std::atomic<std::size_t> event_streams_{0};
+
+ private:
+  std::shared_ptr<Impl> impl_;
 };
 
 }  // namespace retreat::bridge
