@@ -182,6 +182,9 @@ std::function<void(telemetry::PrometheusWriter&)> bridge_metrics(
                  "HTTP connections waiting for a request, closed to make room for a new one from "
                  "the same address.");
       out.sample(static_cast<double>(server->connections_evicted()));
+      out.family("retreat_bridge_http_handler_failures_total", "counter",
+                 "HTTP handlers that threw (a bug; the connection was dropped).");
+      out.sample(static_cast<double>(server->handler_failures()));
     }
     if (!receiver) return;
     const auto m = receiver->matched();

@@ -17,6 +17,7 @@
 #include <boost/beast/ssl.hpp>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <list>
@@ -73,6 +74,8 @@ const char* reason(unsigned status) {
       return "internal error";
     case 503:
       return "unavailable";
+    case 505:
+      return "HTTP version not supported";
     default:
       return status >= 500 ? "server error" : "error";
   }
@@ -328,6 +331,7 @@ struct Server::Impl {
   std::atomic<std::size_t> queued{0};
   std::atomic<std::uint64_t> refused{0};
   std::atomic<std::uint64_t> evicted{0};
+  std::atomic<std::uint64_t> failures{0};  ///< handlers that threw (the first said on stderr)
 
   mutable std::mutex mutex;  ///< guards what follows
   std::list<std::weak_ptr<Connection>> connections;
@@ -505,10 +509,19 @@ class Session : public Connection, public std::enable_shared_from_this<Session<S
 
   void handle() {
     auto req = parser_->release();
+    // HTTP/1.0 is answered in kind; 1.1 and any later 1.x as 1.1 (RFC 9110 §2.5); another major
+    // version not at all.
+    if (req.version() / 10 != 1) return answer_error(505);
+    const unsigned version = req.version() == 10 ? 10 : 11;
     Response res;
     try {
       server_.respond(req, res);
+      if (res.ranges && res.status == 200) {
+        const auto range = req.find(http::field::range);
+        if (range != req.end()) apply_range(range->value(), res);
+      }
     } catch (const std::exception&) {
+      if (res.event_stream) --server_.event_streams;  // reserved by the route
       res = Response();
       res.error(500, "500 internal error");
     }
@@ -516,24 +529,20 @@ class Session : public Connection, public std::enable_shared_from_this<Session<S
     const bool keep = req.keep_alive() && ++served_ < server_.options.max_requests_per_connection;
     if (res.event_stream) {
       stream_reserved_ = true;
-      return begin_stream(req.version());
+      return begin_stream(version);
     }
-    if (res.ranges && res.status == 200) {
-      const auto range = req.find(http::field::range);
-      if (range != req.end()) apply_range(range->value(), res);
-    }
-    if (!res.on_worker) return write(std::move(res), head, req.version(), keep);
+    if (!res.on_worker) return write(std::move(res), head, version, keep);
     // A report: rendered on a worker, at most max_queued waiting.
     if (server_.queued.fetch_add(1) >= server_.options.max_queued) {
       --server_.queued;
       Response busy;
       busy.error(503, "503 busy: too many reports are being rendered; try again");
       busy.set("Retry-After", "2");
-      return write(std::move(busy), head, req.version(), keep);
+      return write(std::move(busy), head, version, keep);
     }
     auto work = asio::make_work_guard(stream_.get_executor());
     asio::post(server_.workers, [self = this->shared_from_this(), res = std::move(res), head,
-                                 version = req.version(), keep, work = std::move(work)]() mutable {
+                                 version, keep, work = std::move(work)]() mutable {
       auto job = std::move(res.on_worker);
       try {
         job(res);
@@ -1148,9 +1157,21 @@ void Server::serve() {
     impl.accept();
     impl.broadcast();
   });
+  // A handler that throws ends run() on its thread: said once, and that thread runs on (the
+  // connection it served is dropped with the handler).
+  const auto run = [&impl] {
+    for (;;) {
+      try {
+        impl.loop.run();
+        return;
+      } catch (const std::exception& e) {
+        if (impl.failures.fetch_add(1) == 0) std::fprintf(stderr, "retreat-bridge: an HTTP handler failed: %s\n", e.what());
+      }
+    }
+  };
   std::vector<std::thread> more;
-  for (std::size_t i = 1; i < impl.options.io_threads; ++i) more.emplace_back([&impl] { impl.loop.run(); });
-  impl.loop.run();
+  for (std::size_t i = 1; i < impl.options.io_threads; ++i) more.emplace_back(run);
+  run();
   for (auto& t : more) t.join();
 }
 
@@ -1172,5 +1193,7 @@ std::size_t Server::connections() const {
 std::uint64_t Server::connections_refused() const { return impl_->refused.load(); }
 
 std::uint64_t Server::connections_evicted() const { return impl_->evicted.load(); }
+
+std::uint64_t Server::handler_failures() const { return impl_->failures.load(); }
 
 }  // namespace retreat::bridge

@@ -109,6 +109,9 @@ class Server {
   /// Connections closed to make room for a new one from the same address (the oldest of the
   /// address's connections waiting for a request).
   std::uint64_t connections_evicted() const;
+  /// Handlers that threw (a bug: the connection is dropped and the server serves on; the first
+  /// is said on stderr).
+  std::uint64_t handler_failures() const;
 
   struct Impl;
 
