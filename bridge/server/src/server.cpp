@@ -296,8 +296,9 @@ class Connection {
   virtual void close() = 0;
   /// For an event stream: the newest event, and whether a keep-alive or the stream's end is due.
   virtual void offer(std::shared_ptr<const Event> event, Clock::time_point now) = 0;
-  /// Under the server's mutex: its entry in its peer's waiting list was erased.
-  virtual void unlisted() = 0;
+  /// Under the server's mutex: it is being evicted. Its entry in its peer's waiting list was
+  /// erased, and it no longer counts towards its address's cap (its close is on its way).
+  virtual void evicted() = 0;
 };
 
 /// What the server keeps of one client address.
@@ -399,13 +400,19 @@ class Session : public Connection, public std::enable_shared_from_this<Session<S
       server_.streams.erase(stream_registration_);
     }
     if (stream_reserved_) --server_.event_streams;
-    auto& peer = server_.peers[address_];
-    if (waiting_at_) peer.waiting.erase(*waiting_at_);
-    if (--peer.connections == 0) server_.peers.erase(address_);
+    const auto peer = server_.peers.find(address_);
+    if (peer == server_.peers.end()) return;  // evicted, and the address's last one
+    if (waiting_at_) peer->second.waiting.erase(*waiting_at_);
+    if (counted_ && --peer->second.connections == 0) server_.peers.erase(peer);
   }
 
-  /// Called once, under the server's mutex, right after construction.
-  void registered(std::list<std::weak_ptr<Connection>>::iterator at) { registration_ = at; }
+  /// Called once, under the server's mutex, right after construction: its places in the
+  /// server's list and, waiting for its first request from the start, in its peer's.
+  void registered(std::list<std::weak_ptr<Connection>>::iterator at,
+                  std::list<std::weak_ptr<Connection>>::iterator waiting_at) {
+    registration_ = at;
+    waiting_at_ = waiting_at;
+  }
 
   void start() {
     asio::dispatch(stream_.get_executor(), [self = this->shared_from_this()] {
@@ -423,7 +430,10 @@ class Session : public Connection, public std::enable_shared_from_this<Session<S
     });
   }
 
-  void unlisted() override { waiting_at_.reset(); }
+  void evicted() override {
+    waiting_at_.reset();
+    counted_ = false;
+  }
 
   void close() override {
     asio::post(stream_.get_executor(), [self = this->shared_from_this()] { self->drop(); });
@@ -449,6 +459,7 @@ class Session : public Connection, public std::enable_shared_from_this<Session<S
   /// Lists or unlists this connection as waiting for a request (evictable), under the mutex.
   void waiting(bool yes) {
     std::lock_guard lock(server_.mutex);
+    if (!counted_) return;  // evicted: its close is on its way
     auto& list = server_.peers[address_].waiting;
     if (yes && !waiting_at_) {
       waiting_at_ = list.insert(list.end(), this->weak_from_this());
@@ -743,8 +754,10 @@ class Session : public Connection, public std::enable_shared_from_this<Session<S
   beast::flat_buffer buffer_;
   std::optional<http::request_parser<http::string_body>> parser_;
   std::list<std::weak_ptr<Connection>>::iterator registration_;
-  /// Its entry in its peer's waiting list; guarded by the server's mutex.
+  /// Its entry in its peer's waiting list, and whether it counts towards its address's cap (not
+  /// once evicted); guarded by the server's mutex.
   std::optional<std::list<std::weak_ptr<Connection>>::iterator> waiting_at_;
+  bool counted_ = true;
   std::size_t served_ = 0;
   std::uint64_t head_size_ = 0;
   bool dropped_ = false;
@@ -1010,7 +1023,8 @@ void Server::Impl::admit(tcp::socket socket) {
     for (auto it = peer.waiting.begin(); it != peer.waiting.end(); ++it) {
       if ((evict = it->lock())) {
         peer.waiting.erase(it);
-        evict->unlisted();
+        evict->evicted();
+        --peer.connections;
         break;
       }
     }
@@ -1040,7 +1054,7 @@ void Server::Impl::admit(tcp::socket socket) {
   }
   ++peer.connections;
   const auto start = [&](auto session) {
-    session->registered(connections.insert(connections.end(), session));
+    session->registered(connections.insert(connections.end(), session), peer.waiting.insert(peer.waiting.end(), session));
     lock.unlock();
     session->start();
   };

@@ -432,6 +432,76 @@ TEST_F(ServerTest, AStreamGetsANewAggregatorsStateEvenWhenItsCountIsBack) {
   EXPECT_EQ(json::parse(r->body)["telemetry"]["inside"], 9);
 }
 
+/// A connection to 127.0.0.1 that sent @p bytes (and stays open).
+class RawConnection {
+ public:
+  RawConnection(int port, const std::string& bytes) {
+    sockaddr_in sa{};
+    sa.sin_family = AF_INET;
+    sa.sin_port = htons(static_cast<std::uint16_t>(port));
+    inet_pton(AF_INET, "127.0.0.1", &sa.sin_addr);
+    fd_ = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+    if (fd_ < 0 || ::connect(fd_, reinterpret_cast<const sockaddr*>(&sa), sizeof sa) != 0) return;
+    send(bytes);
+  }
+  ~RawConnection() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  RawConnection(const RawConnection&) = delete;
+  RawConnection& operator=(const RawConnection&) = delete;
+  void send(const std::string& bytes) { ::send(fd_, bytes.data(), bytes.size(), MSG_NOSIGNAL); }
+  /// What arrives until the server closes (or the hang ceiling).
+  std::string read_to_close() {
+    std::string all;
+    char buffer[4096];
+    for (;;) {
+      pollfd p{fd_, POLLIN, 0};
+      if (::poll(&p, 1, static_cast<int>(std::chrono::milliseconds(testing::hang_ceiling).count())) <= 0) return all;
+      const auto n = ::recv(fd_, buffer, sizeof buffer, 0);
+      if (n <= 0) return all;
+      all.append(buffer, static_cast<std::size_t>(n));
+    }
+  }
+
+ private:
+  int fd_ = -1;
+};
+
+TEST_F(ServerTest, AnAddressAtItsCapEvictsItsOldestWaitingConnectionOrIsRefused) {
+  ServerOptions o;
+  o.max_connections_per_address = 3;
+  o.read_timeout = std::chrono::minutes(10);  // nothing here is dropped for being slow
+  start(o);
+  const std::string unfinished = "GET /api/state HTTP/1.1\r\nX-Slow: ";
+  const std::string rest = "a\r\nConnection: close\r\n\r\n";
+  const auto connections_are = [&](std::size_t n) {
+    return testing::eventually([&] { return server_->connections() == n; }, testing::hang_ceiling);
+  };
+  RawConnection a(port_, unfinished);
+  ASSERT_TRUE(connections_are(1));
+  RawConnection b(port_, unfinished);
+  RawConnection c(port_, unfinished);
+  ASSERT_TRUE(connections_are(3));
+  // A fourth: the oldest waiting one (a) is closed for it, unanswered.
+  RawConnection d(port_, unfinished);
+  EXPECT_EQ(a.read_to_close(), "");
+  EXPECT_EQ(server_->connections_evicted(), 1u);
+  // The others are served when they finish their requests.
+  for (auto* late : {&b, &c, &d}) {
+    late->send(rest);
+    EXPECT_EQ(late->read_to_close().rfind("HTTP/1.1 200 ", 0), 0u);
+  }
+  ASSERT_TRUE(connections_are(0));
+  // Three event streams wait for nothing: a fourth connection finds none to evict and is
+  // refused with 503.
+  Viewers streams(port_, 3);
+  ASSERT_TRUE(streams.reach(state_.version()));
+  RawConnection refused(port_, "");
+  EXPECT_EQ(refused.read_to_close().rfind("HTTP/1.1 503 ", 0), 0u);
+  EXPECT_EQ(server_->connections_refused(), 1u);
+  EXPECT_EQ(server_->connections_evicted(), 1u);
+}
+
 TEST_F(ServerTest, ABodyOverTheLimitGets413) {
   ServerOptions o;
   o.max_payload = 1024;
