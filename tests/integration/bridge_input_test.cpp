@@ -205,20 +205,8 @@ class Flood {
 
  private:
   int open_one(bool trickle) {
-    const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+    const int fd = tb::connect_to(port_, "127.0.0.2");
     if (fd < 0) return -1;
-    sockaddr_in from{};
-    from.sin_family = AF_INET;
-    inet_pton(AF_INET, "127.0.0.2", &from.sin_addr);
-    sockaddr_in to{};
-    to.sin_family = AF_INET;
-    to.sin_port = htons(static_cast<std::uint16_t>(port_));
-    inet_pton(AF_INET, "127.0.0.1", &to.sin_addr);
-    if (::bind(fd, reinterpret_cast<const sockaddr*>(&from), sizeof from) != 0 ||
-        ::connect(fd, reinterpret_cast<const sockaddr*>(&to), sizeof to) != 0) {
-      ::close(fd);
-      return -1;
-    }
     const std::string start = trickle ? "GET /api/state HTTP/1.1\r\nX-Slow: " : "GET /api/state HTTP/1.1\r\nHost: x\r\n";
     ::send(fd, start.data(), start.size(), MSG_NOSIGNAL);
     ++opened_;
@@ -257,20 +245,11 @@ class Flood {
 /// GET @p path from source address @p from on a fresh connection; the status, or 0 when no
 /// complete answer came within @p limit.
 int status_from(const char* from, int port, const std::string& path, std::chrono::milliseconds limit) {
-  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  const int fd = tb::connect_to(port, from);
   if (fd < 0) return 0;
-  sockaddr_in source{};
-  source.sin_family = AF_INET;
-  inet_pton(AF_INET, from, &source.sin_addr);
-  sockaddr_in to{};
-  to.sin_family = AF_INET;
-  to.sin_port = htons(static_cast<std::uint16_t>(port));
-  inet_pton(AF_INET, "127.0.0.1", &to.sin_addr);
   std::string answer;
   const std::string request = "GET " + path + " HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n";
-  if (::bind(fd, reinterpret_cast<const sockaddr*>(&source), sizeof source) == 0 &&
-      ::connect(fd, reinterpret_cast<const sockaddr*>(&to), sizeof to) == 0 &&
-      ::send(fd, request.data(), request.size(), MSG_NOSIGNAL) == static_cast<ssize_t>(request.size())) {
+  if (::send(fd, request.data(), request.size(), MSG_NOSIGNAL) == static_cast<ssize_t>(request.size())) {
     const auto deadline = std::chrono::steady_clock::now() + limit;
     char buffer[65536];
     for (;;) {  // until the server closes: the whole answer

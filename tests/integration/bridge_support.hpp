@@ -41,6 +41,10 @@ struct Reply {
 };
 std::optional<Reply> get(int port, const std::string& path, std::chrono::seconds timeout = std::chrono::seconds(5));
 
+/// A TCP connection to 127.0.0.1:port from source address @p from (any 127.x.y.z; the kernel's
+/// choice when null): the socket, or -1 when it could not connect.
+int connect_to(int port, const char* from = nullptr);
+
 /// Sends `bytes` on a fresh TCP connection to 127.0.0.1:port and returns the server's answer:
 /// one complete response, or what came before it closed or `timeout` passed. `keep_open`: for
 /// readability at call sites that stall on purpose (the connection is never half-closed).

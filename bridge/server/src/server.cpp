@@ -323,7 +323,6 @@ struct Server::Impl {
   ServerOptions options;
   std::unordered_map<std::string, Handler> get_routes;
   std::unordered_map<std::string, Handler> post_routes;
-  std::unordered_map<std::string, bool> on_worker;
 
   std::atomic<bool> stopping{false};
   std::atomic<bool> bound{false};
@@ -417,7 +416,6 @@ class Session : public Connection, public std::enable_shared_from_this<Session<S
   void start() {
     asio::dispatch(stream_.get_executor(), [self = this->shared_from_this()] {
       if constexpr (tls) {
-        self->waiting(true);
         self->lowest().expires_after(self->server_.options.read_timeout);
         self->stream_.async_handshake(asio::ssl::stream_base::server,
                                       [self](beast::error_code ec) {
@@ -572,6 +570,7 @@ class Session : public Connection, public std::enable_shared_from_this<Session<S
   void write(Response res, bool head, unsigned version, bool keep) {
     if (dropped_) return;
     keep = keep && !server_.stopping.load();
+    std::uint64_t head_size = 0;  // for HEAD: the length the body would have
     if (!res.file.empty()) {
       http::file_body::value_type file;
       beast::error_code ec;
@@ -589,17 +588,17 @@ class Session : public Connection, public std::enable_shared_from_this<Session<S
         res.error(404, "404 " + name + " is not in the run directory (yet)");
       } else {
         res.body.clear();
-        head_size_ = file.size();
+        head_size = file.size();
       }
     } else if (head) {
-      head_size_ = res.body.size();
+      head_size = res.body.size();
       res.body.clear();
     }
     http::response<http::string_body> message{static_cast<http::status>(res.status), version};
     fill(message, res, keep);
     message.body() = std::move(res.body);
     if (head) {
-      message.content_length(head_size_);
+      message.content_length(head_size);
     } else {
       message.prepare_payload();
     }
@@ -640,15 +639,19 @@ class Session : public Connection, public std::enable_shared_from_this<Session<S
       lowest().socket().shutdown(tcp::socket::shutdown_send, ec);
       if (ec) return drop();
       lowest().expires_after(std::min<std::chrono::milliseconds>(server_.options.read_timeout, 1000ms));
-      drain();
+      discard(lowest(), 4 * server_.options.max_payload);
     }
   }
 
-  void drain() {
-    lowest().async_read_some(asio::buffer(scratch_), [self = this->shared_from_this()](beast::error_code ec, std::size_t n) {
+  /// Reads and throws away what the client sends on @p layer (the TCP stream, or the stream
+  /// itself) until it closes, fails, or has sent more than @p limit bytes; then drops the
+  /// connection. After the last answer (finish) and for an event stream's life (begin_stream).
+  template <class Layer>
+  void discard(Layer& layer, std::size_t limit) {
+    layer.async_read_some(asio::buffer(scratch_), [self = this->shared_from_this(), &layer, limit](beast::error_code ec, std::size_t n) {
       self->drained_ += n;
-      if (ec || self->drained_ > 4 * self->server_.options.max_payload) return self->drop();
-      self->drain();
+      if (ec || self->drained_ > limit) return self->drop();
+      self->discard(layer, limit);
     });
   }
 
@@ -684,7 +687,7 @@ class Session : public Connection, public std::enable_shared_from_this<Session<S
     // between events and ends it when the client leaves. Deadlines set while it is pending are
     // the writes' only.
     lowest().expires_never();
-    watch();
+    discard(stream_, server_.options.max_payload);  // nothing, normally
     writing_ = true;
     lowest().expires_after(server_.options.write_timeout);
     http::async_write_header(stream_, *head_serializer_,
@@ -693,15 +696,6 @@ class Session : public Connection, public std::enable_shared_from_this<Session<S
                                if (ec) return self->drop();
                                self->write_next();
                              });
-  }
-
-  /// Reads what an event-stream client sends (nothing, normally) until it closes.
-  void watch() {
-    stream_.async_read_some(asio::buffer(scratch_), [self = this->shared_from_this()](beast::error_code ec, std::size_t n) {
-      self->drained_ += n;
-      if (ec || self->drained_ > self->server_.options.max_payload) return self->drop();
-      self->watch();
-    });
   }
 
   /// Writes the next chunk due, if none is being written: the greeting, the newest event
@@ -759,7 +753,6 @@ class Session : public Connection, public std::enable_shared_from_this<Session<S
   std::optional<std::list<std::weak_ptr<Connection>>::iterator> waiting_at_;
   bool counted_ = true;
   std::size_t served_ = 0;
-  std::uint64_t head_size_ = 0;
   bool dropped_ = false;
   std::array<char, 4096> scratch_{};
   std::size_t drained_ = 0;

@@ -243,19 +243,28 @@ TEST_F(ServerTest, EventStreamsBeyondTheLimitGet503AndTheServerStillAnswers) {
   EXPECT_EQ(server_->event_streams(), 0u);
 }
 
+/// A TCP connection to 127.0.0.1:port: the socket, or -1.
+int connect_local(int port) {
+  sockaddr_in sa{};
+  sa.sin_family = AF_INET;
+  sa.sin_port = htons(static_cast<std::uint16_t>(port));
+  inet_pton(AF_INET, "127.0.0.1", &sa.sin_addr);
+  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  if (fd >= 0 && ::connect(fd, reinterpret_cast<const sockaddr*>(&sa), sizeof sa) != 0) {
+    ::close(fd);
+    return -1;
+  }
+  return fd;
+}
+
 /// Event streams on raw sockets, read together: each one's `id:` lines (the state's versions).
 class Viewers {
  public:
   Viewers(int port, std::size_t count) {
-    sockaddr_in sa{};
-    sa.sin_family = AF_INET;
-    sa.sin_port = htons(static_cast<std::uint16_t>(port));
-    inet_pton(AF_INET, "127.0.0.1", &sa.sin_addr);
     const std::string request = "GET /api/events HTTP/1.1\r\nHost: x\r\n\r\n";
     for (std::size_t i = 0; i < count; ++i) {
-      const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-      if (fd < 0 || ::connect(fd, reinterpret_cast<const sockaddr*>(&sa), sizeof sa) != 0 ||
-          ::send(fd, request.data(), request.size(), MSG_NOSIGNAL) != static_cast<ssize_t>(request.size())) {
+      const int fd = connect_local(port);
+      if (fd < 0 || ::send(fd, request.data(), request.size(), MSG_NOSIGNAL) != static_cast<ssize_t>(request.size())) {
         if (fd >= 0) ::close(fd);
         continue;
       }
@@ -435,14 +444,8 @@ TEST_F(ServerTest, AStreamGetsANewAggregatorsStateEvenWhenItsCountIsBack) {
 /// A connection to 127.0.0.1 that sent @p bytes (and stays open).
 class RawConnection {
  public:
-  RawConnection(int port, const std::string& bytes) {
-    sockaddr_in sa{};
-    sa.sin_family = AF_INET;
-    sa.sin_port = htons(static_cast<std::uint16_t>(port));
-    inet_pton(AF_INET, "127.0.0.1", &sa.sin_addr);
-    fd_ = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-    if (fd_ < 0 || ::connect(fd_, reinterpret_cast<const sockaddr*>(&sa), sizeof sa) != 0) return;
-    send(bytes);
+  RawConnection(int port, const std::string& bytes) : fd_(connect_local(port)) {
+    if (fd_ >= 0) send(bytes);
   }
   ~RawConnection() {
     if (fd_ >= 0) ::close(fd_);
