@@ -250,8 +250,15 @@ void AgentNode::publish_status(std::int64_t tick, double time) {
 }
 
 void AgentNode::flush(std::chrono::nanoseconds timeout) {
-  decisions_.wait_for_acknowledgments(timeout);
-  statuses_.wait_for_acknowledgments(timeout);
+  // One deadline for every writer, plans included: a recorder that has not yet acknowledged a
+  // robot's last plan would otherwise lose the answer to its last frame when the agent exits.
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  const auto left = [&] {
+    return std::max(std::chrono::nanoseconds::zero(), std::chrono::nanoseconds(deadline - std::chrono::steady_clock::now()));
+  };
+  decisions_.wait_for_acknowledgments(left());
+  if (plans_) plans_->wait_for_acknowledgments(left());
+  statuses_.wait_for_acknowledgments(left());
 }
 
 }  // namespace retreat::agent

@@ -57,7 +57,7 @@ int main(int argc, char** argv) {
         return 3;
       }
     }
-    node.flush(std::chrono::seconds(1));
+    node.flush(std::chrono::seconds(3));  // well inside retreat-launch's 5 s stop grace
     const auto& c = node.counters();
     std::fprintf(stderr,
                  "retreat-agent robot %u: %s; frames %llu, dropped %llu, decisions %llu, "

@@ -57,7 +57,8 @@ class AgentNode {
   /// spare agent waits for a robot the arena has not made yet). Checked at most once a second.
   bool arena_seen();
 
-  /// Waits until the arena acknowledged everything sent, up to `timeout`.
+  /// Waits until every reader (the arena, recorders) acknowledged every decision, plan and
+  /// status sent, up to `timeout` in all.
   void flush(std::chrono::nanoseconds timeout);
 
   const NodeCounters& counters() const { return counters_; }
