@@ -143,11 +143,11 @@ void AgentNode::watch_decision_readers() {
   const auto now = std::chrono::steady_clock::now();
   if (now < next_reader_check_) return;
   next_reader_check_ = now + reader_check_period;
-  std::optional<std::set<std::string>> recorders;  // looked up once a new reader appears
   for (const auto& reader : decisions_.matched()) {
     if (!decision_readers_.insert(reader.participant_guid).second) continue;
-    if (!recorders) recorders = transport::participants_announcing(transport_, wire::recorder_user_data);
-    if (recorders->count(reader.participant_guid) > 0) continue;  // a recorder, not an arena
+    // This reader's participant only, not the list of all: in one process, that list is the swarm.
+    const auto participant = transport_.participant(reader.participant_guid);
+    if (participant && participant->user_data == wire::recorder_user_data) continue;  // a recorder, not an arena
     ++counters_.arena_incarnations;
     if (counters_.arena_incarnations == 1) continue;
     // Nothing to undo: the tick order makes the new arena's first frame a duplicate or the next

@@ -309,7 +309,7 @@ TEST(TransportContract, MatchedEndpointsNameTheRemoteWriterAndItsParticipant) {
   EXPECT_EQ(endpoints.front().remotes.front().guid.size(), 32u);
 }
 
-TEST(TransportContract, DiscoveryShowsEachParticipantsUserData) {
+TEST(TransportContract, DiscoveryShowsEachParticipantsUserDataAndFindsItByGuid) {
   auto arena = participant("arena");
   auto agent = participant("agent-7");
   ASSERT_TRUE(eventually([&] {
@@ -318,6 +318,16 @@ TEST(TransportContract, DiscoveryShowsEachParticipantsUserData) {
     }
     return false;
   }, retreat::testing::hang_ceiling)) << "the arena never saw the agent's user data";
+  // One participant by its GUID (the agent tells a recorder from an arena so): the same record.
+  const auto found = arena->participant(agent->guid());
+  ASSERT_TRUE(found.has_value());
+  EXPECT_EQ(found->user_data, "retreat:test:agent-7");
+  EXPECT_EQ(arena->participant(arena->guid())->user_data, "retreat:test:arena");
+  EXPECT_FALSE(arena->participant(std::string(32, '0')).has_value());
+  const auto gone = agent->guid();
+  agent.reset();
+  ASSERT_TRUE(eventually([&] { return !arena->participant(gone).has_value(); }, retreat::testing::hang_ceiling))
+      << "a participant that left is still found";
 }
 
 TEST(TransportContract, DiscoveryListsEveryParticipantOfALargeSwarm) {

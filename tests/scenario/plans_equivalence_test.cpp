@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -20,6 +21,7 @@
 #include "retreat/launch/in_memory_run.hpp"
 #include "retreat/physics/world.hpp"
 #include "retreat/scenario/scenario.hpp"
+#include "retreat/testing/process.hpp"
 #include "retreat/transport/inmemory.hpp"
 #include "retreat/wire/topics.hpp"
 
@@ -286,6 +288,41 @@ TEST(FrameClock, EveryWorldsFramesAreOnTheScenariosFrameClockBitForBit) {
     }
     EXPECT_GE(checked, 5000u * 20u) << file;
   }
+}
+
+
+TEST(AgentNodeReaders, ARecordersReaderIsNotCountedAsAnArenaIncarnation) {
+  // An agent tells a new arena incarnation from a recorder by the reader's participant, looked
+  // up alone (Transport::participant): in a swarm of 10⁵ in one process, listing every
+  // participant for each agent made the run's first second quadratic in N.
+  const auto s = scenario::load(std::string(RETREAT_SCENARIOS) + "/kinetic-1000.yaml", {"arena.robots_inside=1"});
+  auto bus = transport::make_inmemory_bus(transport::Threading::confined);
+  auto agent_transport = participant(bus, s, "agent");
+  agent::AgentNode agent(s, 0, *agent_transport);
+  const auto reader_on = [&](transport::Transport& t) {
+    return t.create_reader<wire::Decision>({wire::decision_topic(s.dds.prefix, 0), transport::QosIntent::answers()});
+  };
+  transport::ParticipantOptions recording;
+  recording.domain_id = s.dds.domain;
+  recording.name = "retreat-record";
+  recording.user_data = wire::recorder_user_data;
+  auto recorder_transport = transport::make_inmemory_transport(bus, recording);
+  auto recorder_reader = reader_on(*recorder_transport);
+  auto first_transport = participant(bus, s, "arena");
+  auto first_reader = reader_on(*first_transport);
+  // Readers are looked at once a second of wall time (AgentNode's reader_check_period).
+  const auto spin_until = [&](std::uint32_t incarnations) {
+    const auto deadline = std::chrono::steady_clock::now() + testing::hang_ceiling;
+    while (agent.counters().arena_incarnations < incarnations && std::chrono::steady_clock::now() < deadline) {
+      agent.spin_once(std::chrono::milliseconds(5));
+    }
+  };
+  spin_until(1);
+  EXPECT_EQ(agent.counters().arena_incarnations, 1u);
+  auto second_transport = participant(bus, s, "arena-again");
+  auto second_reader = reader_on(*second_transport);
+  spin_until(2);
+  EXPECT_EQ(agent.counters().arena_incarnations, 2u);
 }
 
 }  // namespace

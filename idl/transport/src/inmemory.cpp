@@ -82,12 +82,22 @@ class InMemoryBus {
     const auto lock = guard();
     const auto n = ++participants_counter_;
     info.guid = make_guid(n, 0x000001c1);
+    by_guid_[info.guid] = n;
     participants_[n] = std::move(info);
     return n;
   }
   void remove_participant(std::uint64_t n) {
     const auto lock = guard();
-    participants_.erase(n);
+    const auto found = participants_.find(n);
+    if (found == participants_.end()) return;
+    by_guid_.erase(found->second.guid);
+    participants_.erase(found);
+  }
+  std::optional<ParticipantInfo> participant(const std::string& guid) const {
+    const auto lock = guard();
+    const auto found = by_guid_.find(guid);
+    if (found == by_guid_.end()) return std::nullopt;
+    return participants_.at(found->second);
   }
   std::vector<ParticipantInfo> participants() const {
     const auto lock = guard();
@@ -223,6 +233,7 @@ class InMemoryBus {
   std::uint64_t version_ = 0;  ///< changes whenever any topic's endpoints do
   std::map<std::string, std::unique_ptr<TopicEntry>> topics_;  // entries never move or go
   std::map<std::uint64_t, ParticipantInfo> participants_;
+  std::unordered_map<std::string, std::uint64_t> by_guid_;  ///< a swarm in one process has 10⁵ of them
   std::uint64_t participants_counter_ = 0;
   std::uint64_t endpoint_counter_ = 0;
 };
@@ -269,6 +280,7 @@ class InMemoryTransport final : public Transport {
   ~InMemoryTransport() override { bus_->remove_participant(participant_); }
 
   std::vector<ParticipantInfo> participants() const override { return bus_->participants(); }
+  std::optional<ParticipantInfo> participant(const std::string& guid) const override { return bus_->participant(guid); }
   std::string_view vendor() const override { return "inmemory"; }
   std::string guid() const override { return bus_->participant_guid(participant_); }
 

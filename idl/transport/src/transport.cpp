@@ -28,6 +28,13 @@ std::unique_ptr<detail::ReaderPort> Transport::make_raw_reader(wire::MessageKind
                               "or cyclonedds)");
 }
 
+std::optional<ParticipantInfo> Transport::participant(const std::string& guid) const {
+  for (auto& p : participants()) {
+    if (p.guid == guid) return std::move(p);
+  }
+  return std::nullopt;
+}
+
 std::set<std::string> participants_announcing(const Transport& transport, std::string_view user_data) {
   std::set<std::string> out;
   for (const auto& p : transport.participants()) {

@@ -294,6 +294,9 @@ class Transport {
   std::vector<EndpointMatches> matched_endpoints() const { return registry_->snapshot(); }
   /// Participants seen in discovery on this domain, this one included.
   virtual std::vector<ParticipantInfo> participants() const = 0;
+  /// The participant with this GUID if discovery has seen it. By default a scan of
+  /// participants(); the in-memory transport, whose one bus can hold a swarm of 10⁵, looks it up.
+  virtual std::optional<ParticipantInfo> participant(const std::string& guid) const;
   /// "inmemory", "fastdds" or "cyclonedds".
   virtual std::string_view vendor() const = 0;
   /// This participant's GUID (32 hex digits).
