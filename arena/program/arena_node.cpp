@@ -14,22 +14,14 @@ namespace retreat::arena {
 using namespace std::chrono_literals;
 
 /// What every pass over the robots reads comes first (one cache line), the endpoints after.
+/// What only some ticks touch: the endpoints, the record, a real robot's poses. (What every
+/// tick touches is in TickState.)
 struct ArenaNode::Robot {
   std::uint32_t id;
-  bool expecting = false;  ///< a frame of the current tick is waiting for this agent's answer
-  bool answered = false;
-  bool retreat = false;       ///< the answer for the current tick (or, real time, any answer)
-  bool commanded = false;     ///< the world was told to retreat this robot
-  wire::Phase phase = wire::Phase::waiting;
-  std::uint32_t sensed_onsets = 0;  ///< the current frame's onsets as the robot's sensor reports them
   AgentRecord record;
   robot::Endpoints endpoints;  ///< the same endpoints a real robot's link uses
-  /// With run.plans: the agent's plan reader, and its last plan (the ticks it covers while the
-  /// robot's input stays unchanged: no sensed onset, and the phase of the frame it answered).
+  /// With run.plans: the agent's plan reader (its last plan is in TickState).
   std::optional<transport::Reader<wire::Decision>> plans = std::nullopt;
-  std::int64_t plan_through = -1;  ///< the last tick the plan covers (-1: none)
-  bool plan_retreat = false;       ///< the decision at plan_through
-  wire::Phase plan_phase = wire::Phase::waiting;
   double frame_time = 0.0;         ///< the time of the last frame sent, which a plan must echo
   /// A real robot (arena.external_robots): its tracked poses, and what the arena knows of them.
   struct External {
@@ -93,6 +85,7 @@ ArenaNode::Robot& ArenaNode::robot(std::uint32_t id) {
   // Ids are dense (the world's 0 .. robot_count()−1): every id up to this one gets its endpoints.
   while (robots_.size() <= id) {
     const auto next = static_cast<std::uint32_t>(robots_.size());
+    ticks_.emplace_back();
     const auto& prefix = scenario_.dds.prefix;
     robots_.push_back(std::make_unique<Robot>(Robot{
         .id = next,
@@ -111,7 +104,7 @@ ArenaNode::Robot& ArenaNode::robot(std::uint32_t id) {
 std::uint32_t ArenaNode::wait_for_agents(std::chrono::nanoseconds timeout, const KeepGoing& keep_going) {
   const auto deadline = std::chrono::steady_clock::now() + timeout;
   // A resumed arena (replay) may have departed robots: their agents have exited, having retreated.
-  auto departed = [](const Robot& r) { return r.phase == wire::Phase::departed; };
+  auto departed = [&](const Robot& r) { return ticks_[r.id].phase == wire::Phase::departed; };
   auto matched = [&](const Robot& r) {
     return departed(r) ? r.record.retreated
                        : r.endpoints.matched() && (!r.plans || r.plans->matched_count() > 0) &&
@@ -196,7 +189,7 @@ void ArenaNode::take_external_poses() {
       e.y = pose.y;
       e.seen_at = now;
     }
-    if (!e.has_pose || r->phase == wire::Phase::departed) continue;
+    if (!e.has_pose || ticks_[id].phase == wire::Phase::departed) continue;
     const double age = now - e.seen_at;
     if (age > p.external_lost_after) {
       if (world_->lose_external(r->id)) {
@@ -224,34 +217,39 @@ void ArenaNode::publish_tick() {
   // The run's last tick is sent to every robot, its plan in force or not: its agent then acts on
   // the ticks the plan covered, and publishes their statuses, before the run ends.
   const bool last = settle_plans_at_end_ && duration_reached();
+  const bool plans = scenario_.run.plans;
   for (const auto& f : world_->frames()) {
-    auto& r = robot(f.id);
-    r.phase = to_wire(f.phase);
-    r.sensed_onsets = sensor_.perfect()
+    if (f.id >= ticks_.size()) robot(f.id);
+    // A covered tick touches this robot's TickState only: with 10⁵ robots, reaching its Robot
+    // too (endpoints, record) every tick cost more than the agents' own work.
+    auto& t = ticks_[f.id];
+    t.phase = to_wire(f.phase);
+    t.sensed_onsets = sensor_.perfect()
                           ? f.new_onsets
                           : sensor_.sense(f.new_onsets, seed_for(scenario_.seed, f.id, Stream::sensor), f.tick);
-    const wire::ProximityFrame frame{f.id, f.tick, f.time, r.phase, f.in_contact, r.sensed_onsets};
-    r.answered = false;
-    if (!r.commanded) r.retreat = false;
-    r.expecting = !r.record.lost && f.phase != physics::Phase::departed;
+    t.answered = false;
+    if (!t.commanded) t.retreat = false;
+    t.expecting = !t.lost && f.phase != physics::Phase::departed;
     // A lost agent gets no more frames: a reliable writer would otherwise queue them for a
     // reader that never acknowledges, and block once its history is full.
-    if (r.record.lost) continue;
-    if (r.plans) {
-      if (!last && f.tick <= r.plan_through && r.sensed_onsets == 0 && r.phase == r.plan_phase) {
+    if (t.lost) continue;
+    if (plans) {
+      if (!last && f.tick <= t.plan_through && t.sensed_onsets == 0 && t.phase == t.plan_phase) {
         // Covered: the agent decided this tick already, in the plan it answered with.
         ++counters_.planned;
-        if (r.expecting) act_on_answer(r, plan_decision(r, f.tick));
-        r.answered = true;
+        if (t.expecting) act_on_answer(f.id, plan_decision(t, f.tick));
+        t.answered = true;
         continue;
       }
-      r.plan_through = -1;  // the input changed, or the plan ended: the agent answers this frame
-      r.frame_time = f.time;
+      t.plan_through = -1;  // the input changed, or the plan ended: the agent answers this frame
     }
+    auto& r = *robots_[f.id];
+    if (plans) r.frame_time = f.time;
+    const wire::ProximityFrame frame{f.id, f.tick, f.time, t.phase, f.in_contact, t.sensed_onsets};
     if (r.endpoints.frames.write(frame) != transport::WriteResult::ok) {
-      if (r.expecting) {
+      if (t.expecting) {
         // The agent's reader has stopped acknowledging: treat it like a silent agent.
-        r.expecting = false;
+        t.expecting = false;
         declare_lost(r, f.time);
       }
       continue;
@@ -282,22 +280,23 @@ void ArenaNode::publish_observations() {
   poses_.write(poses);
 }
 
-void ArenaNode::act_on_answer(Robot& r, bool retreat) {
-  if (retreat && !r.record.retreated) {
-    r.record.retreated = true;
-    r.record.retreat_at = world_->telemetry().time;
+void ArenaNode::act_on_answer(std::uint32_t id, bool retreat) {
+  if (!retreat) return;
+  if (auto& record = robots_[id]->record; !record.retreated) {
+    record.retreated = true;
+    record.retreat_at = world_->telemetry().time;
   }
-  r.retreat = r.retreat || retreat;
+  ticks_[id].retreat = true;
 }
 
-bool ArenaNode::plan_decision(const Robot& r, std::int64_t tick) {
+bool ArenaNode::plan_decision(const TickState& t, std::int64_t tick) {
   // The plan's own decision if it ends at this tick; before its end, no retreat (an agent that
   // had decided is commanded already, and its retreat stays).
-  return tick == r.plan_through && r.plan_retreat;
+  return tick == t.plan_through && t.plan_retreat;
 }
 
 bool ArenaNode::settled_plan(const Robot& r, const wire::Decision& p, std::int64_t current) {
-  if (r.phase == wire::Phase::departed) return true;  // the answer to its last frame: nothing to do
+  if (ticks_[r.id].phase == wire::Phase::departed) return true;  // the answer to its last frame: nothing to do
   if (p.robot_id >= world_->robot_count()) {
     ++counters_.unknown_robot;
   } else if (const auto verdict = robot::judge_plan(p, current, r.frame_time);
@@ -313,14 +312,15 @@ bool ArenaNode::settled_plan(const Robot& r, const wire::Decision& p, std::int64
 
 void ArenaNode::take_plans(Robot& r, std::int64_t current) {
   r.plans->take(taken_);
+  auto& t = ticks_[r.id];
   for (const auto& p : taken_) {
     if (settled_plan(r, p, current)) continue;
     ++counters_.received;
-    r.answered = true;
-    r.plan_through = p.tick;
-    r.plan_retreat = p.retreat;
-    r.plan_phase = r.phase;
-    act_on_answer(r, plan_decision(r, current));
+    t.answered = true;
+    t.plan_through = p.tick;
+    t.plan_retreat = p.retreat;
+    t.plan_phase = t.phase;
+    act_on_answer(r.id, plan_decision(t, current));
   }
 }
 
@@ -331,8 +331,9 @@ void ArenaNode::take_decisions(Robot& r, std::int64_t current) {
   }
   const bool lockstep = scenario_.run.mode == scenario::RunMode::lockstep;
   r.endpoints.decisions.take(taken_);
+  auto& t = ticks_[r.id];
   for (const auto& d : taken_) {
-    if (r.phase == wire::Phase::departed) continue;  // the answer to its last frame: nothing to do
+    if (t.phase == wire::Phase::departed) continue;  // the answer to its last frame: nothing to do
     if (d.robot_id >= world_->robot_count()) {
       ++counters_.unknown_robot;
     } else if (const auto verdict = robot::judge(d, current, lockstep); verdict == robot::DecisionVerdict::future) {
@@ -341,17 +342,14 @@ void ArenaNode::take_decisions(Robot& r, std::int64_t current) {
       ++counters_.stale;  // lockstep answers only count for the tick they answer
     } else {
       ++counters_.received;
-      if (d.tick == current) r.answered = true;
-      act_on_answer(r, d.retreat);
+      if (d.tick == current) t.answered = true;
+      act_on_answer(r.id, d.retreat);
     }
   }
 }
 
 bool ArenaNode::all_answered() const {
-  for (const auto& r : robots_) {
-    if (r->expecting && !r->answered && !r->record.lost) return false;
-  }
-  return true;
+  return std::none_of(ticks_.begin(), ticks_.end(), [](const TickState& t) { return owes_answer(t); });
 }
 
 bool ArenaNode::collect_available() {
@@ -363,15 +361,14 @@ bool ArenaNode::collect_available() {
     // whatever else their readers hold answers a settled frame (it is judged when the robot is
     // next sent a frame, or by finish()). A tick then costs the robots whose input changed.
     for (const auto id : sent_) {
-      auto& r = *robots_[id];
-      take_plans(r, current);
-      all = all && !(r.expecting && !r.answered && !r.record.lost);
+      take_plans(*robots_[id], current);
+      all = all && !owes_answer(ticks_[id]);
     }
     return all;
   }
   for (auto& r : robots_) {
     take_decisions(*r, current);
-    all = all && !(r->expecting && !r->answered && !r->record.lost);
+    all = all && !owes_answer(ticks_[r->id]);
   }
   return all;
 }
@@ -401,7 +398,7 @@ bool ArenaNode::collect_lockstep(const KeepGoing& keep_going) {
     if (const auto now = std::chrono::steady_clock::now(); now >= deadline) {
       bool waiting = false;
       for (auto& r : robots_) {
-        if (!r->expecting || r->answered || r->record.lost) continue;
+        if (!owes_answer(ticks_[r->id])) continue;
         if (now < hang_deadline && agent_present(*r)) {
           waiting = true;
           if (!waited) ++counters_.slow_answers;
@@ -432,8 +429,9 @@ bool ArenaNode::agent_present(const Robot& r) {
 void ArenaNode::resend_unanswered() {
   for (const auto& f : world_->frames()) {
     auto& r = robot(f.id);
-    if (!r.expecting || r.answered || r.record.lost) continue;
-    r.endpoints.frames.write({f.id, f.tick, f.time, r.phase, f.in_contact, r.sensed_onsets});
+    const auto& t = ticks_[f.id];
+    if (!owes_answer(t)) continue;
+    r.endpoints.frames.write({f.id, f.tick, f.time, t.phase, f.in_contact, t.sensed_onsets});
     ++counters_.resent_frames;
   }
 }
@@ -445,33 +443,38 @@ void ArenaNode::step() {
 
 void ArenaNode::replay(std::int64_t ticks, const RetreatJournal& journal) {
   while (tick() < ticks && !finished()) advance(&journal);
-  for (const auto& f : world_->frames()) robot(f.id).phase = to_wire(f.phase);
+  for (const auto& f : world_->frames()) {
+    robot(f.id);
+    ticks_[f.id].phase = to_wire(f.phase);
+  }
   resumed_at_tick_ = tick();
 }
 
 void ArenaNode::advance(const RetreatJournal* journal) {
   const auto current = tick();
   for (const auto& f : world_->frames()) {
-    auto& r = robot(f.id);
+    if (f.id >= ticks_.size()) robot(f.id);
+    auto& t = ticks_[f.id];
     if (journal != nullptr) {
       // What publish_tick and take_decisions did live at this tick, from the journal.
-      r.phase = to_wire(f.phase);
+      t.phase = to_wire(f.phase);
       const auto [first, last] = journal->equal_range(current);
       const bool journalled = std::any_of(first, last, [&](const auto& e) { return e.second == f.id; });
-      r.retreat = r.commanded || journalled;
-      if (journalled && !r.record.retreated && r.phase != wire::Phase::departed) {
-        r.record.retreated = true;
-        r.record.retreat_at = world_->telemetry().time;
+      t.retreat = t.commanded || journalled;
+      if (auto& record = robots_[f.id]->record;
+          journalled && !record.retreated && t.phase != wire::Phase::departed) {
+        record.retreated = true;
+        record.retreat_at = world_->telemetry().time;
       }
-    } else if (r.retreat && !r.commanded && recorder_ != nullptr) {
+    } else if (t.retreat && !t.commanded && recorder_ != nullptr) {
       recorder_->record_retreat(current, f.id);
     }
-    const bool retreat = r.retreat && f.phase == physics::Phase::inside;
-    hash_.add(current, f.id, static_cast<std::uint8_t>(f.phase), r.retreat);
-    if (recorder_ != nullptr) recorder_->record_state(current, f.id, static_cast<std::uint8_t>(f.phase), r.retreat);
-    if (retreat && !r.commanded) {
+    const bool retreat = t.retreat && f.phase == physics::Phase::inside;
+    hash_.add(current, f.id, static_cast<std::uint8_t>(f.phase), t.retreat);
+    if (recorder_ != nullptr) recorder_->record_state(current, f.id, static_cast<std::uint8_t>(f.phase), t.retreat);
+    if (retreat && !t.commanded) {
       if (world_->command_retreat(f.id) == physics::CommandVerdict::accepted) ++counters_.applied;
-      r.commanded = true;
+      t.commanded = true;
     }
   }
   if (recorder_ != nullptr) recorder_->record_link(current, hash_.link());
@@ -514,6 +517,7 @@ std::uint32_t ArenaNode::agents_lost() const { return agents_lost_; }
 void ArenaNode::declare_lost(Robot& r, double at) {
   r.record.lost = true;
   r.record.lost_at = at;
+  ticks_[r.id].lost = true;
   if (r.record.matched) ++agents_lost_;  // an agent that never came is not counted lost
 }
 

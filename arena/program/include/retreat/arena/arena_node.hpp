@@ -108,6 +108,21 @@ class ArenaNode {
 
  private:
   struct Robot;
+  /// What every tick reads or writes of one robot, kept apart from its Robot (one array, by id).
+  struct TickState {
+    std::int64_t plan_through = -1;   ///< run.plans: the last tick its plan covers (-1: none)
+    std::uint32_t sensed_onsets = 0;  ///< the current frame's onsets as the robot's sensor reports them
+    wire::Phase phase = wire::Phase::waiting;
+    wire::Phase plan_phase = wire::Phase::waiting;  ///< the phase of the frame its plan answered
+    bool expecting = false;  ///< a frame of the current tick is waiting for this agent's answer
+    bool answered = false;
+    bool retreat = false;       ///< the answer for the current tick (or, real time, any answer)
+    bool commanded = false;     ///< the world was told to retreat this robot
+    bool plan_retreat = false;  ///< the plan's decision at plan_through
+    bool lost = false;          ///< its AgentRecord's `lost` (set by declare_lost only)
+  };
+  static bool owes_answer(const TickState& t) { return t.expecting && !t.answered && !t.lost; }
+  /// The robot with this id; every id up to it gets its Robot and TickState.
   Robot& robot(std::uint32_t id);
   void take_decisions(Robot& r, std::int64_t current);
   /// run.plans: true when plan @p p of robot @p r needs no action: the robot has departed (the
@@ -125,10 +140,10 @@ class ArenaNode {
   /// robots sent a frame) as take_plans() would, acting on none: a departed robot's last answer
   /// is not counted, every other one is dropped.
   void count_leftover_plans();
-  /// Acts on robot @p r's decision for the current tick (from the wire or from its plan).
-  void act_on_answer(Robot& r, bool retreat);
-  /// run.plans: robot @p r's decision at @p tick, a tick its plan covers.
-  static bool plan_decision(const Robot& r, std::int64_t tick);
+  /// Acts on robot @p id's decision for the current tick (from the wire or from its plan).
+  void act_on_answer(std::uint32_t id, bool retreat);
+  /// run.plans: a robot's decision at @p tick, a tick its plan (in @p t) covers.
+  static bool plan_decision(const TickState& t, std::int64_t tick);
   /// Real robots: applies every valid tracked pose that arrived (dropping and counting those
   /// going back in time or jumping), then freezes or loses those whose pose is too old.
   void take_external_poses();
@@ -145,6 +160,7 @@ class ArenaNode {
   std::unique_ptr<physics::World> world_;
   physics::SensorNoise sensor_;  ///< each robot's sensor (arena.missed_onsets, arena.false_onsets)
   std::vector<std::unique_ptr<Robot>> robots_;  ///< by robot id (ids are 0 .. robot_count()−1)
+  std::vector<TickState> ticks_;                ///< by robot id, as robots_
   std::vector<std::uint32_t> sent_;             ///< frames_sent()
   std::vector<wire::Decision> taken_;           ///< take_decisions' buffer, kept between calls
   std::vector<wire::Poses> taken_poses_;        ///< take_external_poses' buffer
