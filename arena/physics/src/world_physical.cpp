@@ -254,9 +254,14 @@ void PhysicalWorld::sense(bool initial) {
       u_hat = params_.v * body.entry_direction;
     } else {
       apply_tumbles(body.walk, time_, params_.tumble_rate, body.rng);
-      if (domain_.clearance_lower_bound(self.q) - body_inset_ < boundary_zone_) {
+      // Two lower bounds of the clearance, and the exact one (an ellipse's costs a root search)
+      // only if both are below the zone: past it, the exact clearance changes nothing.
+      if (domain_.clearance_lower_bound(self.q) - body_inset_ < boundary_zone_ &&
+          body.boundary_clearance - (self.q - body.boundary_q).norm() < boundary_zone_) {
         const BoundaryPoint boundary = domain_.nearest_boundary_point(self.q);
         const double clearance = -boundary.signed_distance - body_inset_;
+        body.boundary_q = self.q;
+        body.boundary_clearance = clearance;
         if (clearance <= walk_margin_) {
           reflect_if_outward(body.walk, boundary.outward_normal);
         }

@@ -2,6 +2,7 @@
 /// @file
 /// The physical world (private header; use make_world()).
 
+#include <limits>
 #include <vector>
 
 #include "retreat/physics/barrier_certificate.hpp"
@@ -42,6 +43,10 @@ class PhysicalWorld final : public WorldBase {
     TaskState sensed_state = TaskState::f;
     bool entering = false;
     bool external = false;  ///< a real robot: posed from outside, never moved or commanded here
+    /// The last exact clearance of q computed, and where: the clearance is 1-Lipschitz in q, so
+    /// clearance(q) ≥ boundary_clearance − |q − boundary_q| while q has not gone far.
+    Vec2 boundary_q = Vec2::Zero();
+    double boundary_clearance = -std::numeric_limits<double>::infinity();
   };
 
   bool is_external_in_d(RobotId id) const;
