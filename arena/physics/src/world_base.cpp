@@ -81,7 +81,10 @@ void WorldBase::depart(RobotId id, double time) {
 void WorldBase::build_frames() {
   telemetry_.reset();
   frames_.clear();
-  for (RobotId id = 0; id < stats_.size(); ++id) {
+  while (framed_ < stats_.size() && stats_[framed_].phase == Phase::departed && departed_this_tick_[framed_] == 0) {
+    ++framed_;
+  }
+  for (auto id = static_cast<RobotId>(framed_); id < stats_.size(); ++id) {
     if (stats_[id].phase == Phase::departed && departed_this_tick_[id] == 0) {
       continue;
     }
@@ -99,7 +102,12 @@ Telemetry WorldBase::telemetry() const {
   Telemetry& t = telemetry_.emplace();
   t.tick = tick_;
   t.time = time_;
-  for (RobotId id = 0; id < stats_.size(); ++id) {
+  for (; summed_ < stats_.size() && stats_[summed_].phase == Phase::departed; ++summed_) {
+    for (std::size_t k = 0; k < task_state_count; ++k) summed_time_[k] += stats_[summed_].state_time[k];
+  }
+  t.departed = static_cast<decltype(t.departed)>(summed_);
+  t.state_time = summed_time_;
+  for (auto id = static_cast<RobotId>(summed_); id < stats_.size(); ++id) {
     const RobotStats& s = stats_[id];
     switch (s.phase) {
       case Phase::waiting:

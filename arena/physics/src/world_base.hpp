@@ -3,6 +3,7 @@
 /// Bookkeeping shared by both worlds (private header): robot ids and phases, the queue and the
 /// influx, retreat commands, frames, telemetry and per-robot statistics.
 
+#include <array>
 #include <deque>
 #include <optional>
 #include <vector>
@@ -97,6 +98,14 @@ class WorldBase : public World {
   /// a tick asks for it several times (the arena's tick, its clock, the recorder's row). Forgotten
   /// by build_frames() (a step) and command_retreat() (phases and counters change).
   mutable std::optional<Telemetry> telemetry_;
+  /// An endless queue's robots depart roughly in the order they came, and a departed robot's
+  /// stats never change again: robots 0 .. summed_ − 1 have departed, and summed_time_ is their
+  /// state_time summed in id order, where telemetry()'s sum over every robot resumes (the same
+  /// additions in the same order: the same bits).
+  mutable std::size_t summed_ = 0;
+  mutable std::array<double, task_state_count> summed_time_{};
+  /// Robots 0 .. framed_ − 1 have departed and had their last frame: build_frames() starts after them.
+  std::size_t framed_ = 0;
 };
 
 /// The domain a WorldParams describes.

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -76,6 +77,43 @@ TEST_P(PhysicsWorld, AnEndlessQueueCreatesANewRobotForEachEntry) {
   EXPECT_EQ(world->robot_count(), 13u);  // ids 10, 11, 12 were created
   EXPECT_EQ(world->robot_stats(12).phase, Phase::waiting);
   EXPECT_EQ(world->robot_stats(8).phase, Phase::inside);
+}
+
+TEST_P(PhysicsWorld, TelemetrySumsEveryRobotInIdOrderWhileRobotsDepartInAnyOrder) {
+  // telemetry() resumes its sums after the robots that have departed (their stats never change):
+  // the result must be the sum over every robot in id order, bit for bit, whichever order they
+  // leave in. Robots are sent out in an order that is not their ids' (newest first, then oldest).
+  WorldParams p = robotarium();
+  p.queue = QueueKind::endless;
+  p.robots_waiting = 2;
+  p.lambda_in = 0.1;  // 0.3 robots/s
+  auto world = make_world(p);
+  std::size_t departed_seen = 0;
+  for (long k = 0; k < 4000; ++k) {
+    if (k % 150 == 75) {
+      const auto n = static_cast<RobotId>(world->robot_count());
+      for (RobotId i = 0; i < n; ++i) {  // the newest inside on odd rounds, the oldest on even
+        const RobotId id = (k / 150) % 2 == 1 ? n - 1 - i : i;
+        if (world->robot_stats(id).phase == Phase::inside) {
+          world->command_retreat(id);
+          break;
+        }
+      }
+    }
+    world->step_tick();
+    const Telemetry t = world->telemetry();
+    std::array<double, task_state_count> time{};
+    std::uint32_t departed = 0;
+    for (RobotId id = 0; id < world->robot_count(); ++id) {
+      const RobotStats& s = world->robot_stats(id);
+      departed += s.phase == Phase::departed ? 1 : 0;
+      for (std::size_t j = 0; j < task_state_count; ++j) time[j] += s.state_time[j];
+    }
+    ASSERT_EQ(t.departed, departed) << "tick " << k;
+    for (std::size_t j = 0; j < task_state_count; ++j) ASSERT_EQ(t.state_time[j], time[j]) << "tick " << k << ", state " << j;
+    departed_seen = departed;
+  }
+  EXPECT_GE(departed_seen, 10u);  // the cache was used: many robots left, not in id order
 }
 
 TEST_P(PhysicsWorld, ACommandedRobotRetreatsAndDepartsOnce) {
