@@ -253,12 +253,9 @@ void AgentNode::flush(std::chrono::nanoseconds timeout) {
   // One deadline for every writer, plans included: a recorder that has not yet acknowledged a
   // robot's last plan would otherwise lose the answer to its last frame when the agent exits.
   const auto deadline = std::chrono::steady_clock::now() + timeout;
-  const auto left = [&] {
-    return std::max(std::chrono::nanoseconds::zero(), std::chrono::nanoseconds(deadline - std::chrono::steady_clock::now()));
-  };
-  decisions_.wait_for_acknowledgments(left());
-  if (plans_) plans_->wait_for_acknowledgments(left());
-  statuses_.wait_for_acknowledgments(left());
+  decisions_.wait_for_acknowledgments(transport::time_left(deadline));
+  if (plans_) plans_->wait_for_acknowledgments(transport::time_left(deadline));
+  statuses_.wait_for_acknowledgments(transport::time_left(deadline));
 }
 
 }  // namespace retreat::agent

@@ -13,7 +13,6 @@ namespace retreat::arena {
 
 using namespace std::chrono_literals;
 
-/// What every pass over the robots reads comes first (one cache line), the endpoints after.
 /// What only some ticks touch: the endpoints, the record, a real robot's poses. (What every
 /// tick touches is in TickState.)
 struct ArenaNode::Robot {
@@ -99,6 +98,11 @@ ArenaNode::Robot& ArenaNode::robot(std::uint32_t id) {
     }
   }
   return *robots_[id];
+}
+
+ArenaNode::TickState& ArenaNode::tick_state(std::uint32_t id) {
+  if (id >= ticks_.size()) robot(id);
+  return ticks_[id];
 }
 
 std::uint32_t ArenaNode::wait_for_agents(std::chrono::nanoseconds timeout, const KeepGoing& keep_going) {
@@ -219,10 +223,9 @@ void ArenaNode::publish_tick() {
   const bool last = settle_plans_at_end_ && duration_reached();
   const bool plans = scenario_.run.plans;
   for (const auto& f : world_->frames()) {
-    if (f.id >= ticks_.size()) robot(f.id);
     // A covered tick touches this robot's TickState only: with 10⁵ robots, reaching its Robot
     // too (endpoints, record) every tick cost more than the agents' own work.
-    auto& t = ticks_[f.id];
+    auto& t = tick_state(f.id);
     t.phase = to_wire(f.phase);
     t.sensed_onsets = sensor_.perfect()
                           ? f.new_onsets
@@ -443,18 +446,14 @@ void ArenaNode::step() {
 
 void ArenaNode::replay(std::int64_t ticks, const RetreatJournal& journal) {
   while (tick() < ticks && !finished()) advance(&journal);
-  for (const auto& f : world_->frames()) {
-    robot(f.id);
-    ticks_[f.id].phase = to_wire(f.phase);
-  }
+  for (const auto& f : world_->frames()) tick_state(f.id).phase = to_wire(f.phase);
   resumed_at_tick_ = tick();
 }
 
 void ArenaNode::advance(const RetreatJournal* journal) {
   const auto current = tick();
   for (const auto& f : world_->frames()) {
-    if (f.id >= ticks_.size()) robot(f.id);
-    auto& t = ticks_[f.id];
+    auto& t = tick_state(f.id);
     if (journal != nullptr) {
       // What publish_tick and take_decisions did live at this tick, from the journal.
       t.phase = to_wire(f.phase);
@@ -534,10 +533,7 @@ void ArenaNode::count_leftover_plans() {
 
 bool ArenaNode::flush(std::chrono::nanoseconds timeout) {
   const auto deadline = std::chrono::steady_clock::now() + timeout;
-  const auto left = [&] {
-    return std::max(std::chrono::nanoseconds(0), std::chrono::duration_cast<std::chrono::nanoseconds>(
-                                                     deadline - std::chrono::steady_clock::now()));
-  };
+  const auto left = [&] { return transport::time_left(deadline); };
   bool all = telemetry_.wait_for_acknowledgments(left()) && poses_.wait_for_acknowledgments(left());
   for (auto& r : robots_) all = r->endpoints.frames.wait_for_acknowledgments(left()) && all;
   return all;

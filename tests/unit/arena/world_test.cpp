@@ -20,6 +20,14 @@ class PhysicsWorld : public ::testing::TestWithParam<std::string> {
     p.encounter_model = *value_of<EncounterModel>(GetParam());
     return p;
   }
+  /// The same arena with an endless queue: 2 always waiting, λ_in·|D| = 0.3 robots/s.
+  WorldParams endless() const {
+    WorldParams p = robotarium();
+    p.queue = QueueKind::endless;
+    p.robots_waiting = 2;
+    p.lambda_in = 0.1;
+    return p;
+  }
   static void run_for(World& world, double seconds) {
     const double dt = world.params().tick_dt;
     for (long k = 0; k < std::lround(seconds / dt); ++k) {
@@ -65,11 +73,7 @@ TEST_P(PhysicsWorld, AFiniteQueueEmptiesAtTheInfluxRate) {
 }
 
 TEST_P(PhysicsWorld, AnEndlessQueueCreatesANewRobotForEachEntry) {
-  WorldParams p = robotarium();
-  p.queue = QueueKind::endless;
-  p.robots_waiting = 2;
-  p.lambda_in = 0.1;  // 0.3 robots/s
-  auto world = make_world(p);
+  auto world = make_world(endless());
   run_for(*world, 10.1);  // arrivals at 3.3, 6.6, 9.9 s
   const Telemetry t = world->telemetry();
   EXPECT_EQ(t.waiting, 2u);
@@ -83,11 +87,7 @@ TEST_P(PhysicsWorld, TelemetrySumsEveryRobotInIdOrderWhileRobotsDepartInAnyOrder
   // telemetry() resumes its sums after the robots that have departed (their stats never change):
   // the result must be the sum over every robot in id order, bit for bit, whichever order they
   // leave in. Robots are sent out in an order that is not their ids' (newest first, then oldest).
-  WorldParams p = robotarium();
-  p.queue = QueueKind::endless;
-  p.robots_waiting = 2;
-  p.lambda_in = 0.1;  // 0.3 robots/s
-  auto world = make_world(p);
+  auto world = make_world(endless());
   std::size_t departed_seen = 0;
   for (long k = 0; k < 4000; ++k) {
     if (k % 150 == 75) {

@@ -124,6 +124,8 @@ class ArenaNode {
   static bool owes_answer(const TickState& t) { return t.expecting && !t.answered && !t.lost; }
   /// The robot with this id; every id up to it gets its Robot and TickState.
   Robot& robot(std::uint32_t id);
+  /// Robot @p id's TickState (made with its Robot, as robot() does), without reaching its Robot.
+  TickState& tick_state(std::uint32_t id);
   void take_decisions(Robot& r, std::int64_t current);
   /// run.plans: true when plan @p p of robot @p r needs no action: the robot has departed (the
   /// answer to its last frame), or the plan is counted dropped (unknown robot, future, stale or

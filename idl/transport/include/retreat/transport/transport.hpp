@@ -4,6 +4,7 @@
 /// (tests, fast sweeps), Fast DDS and Cyclone DDS (idl/fastdds, idl/cyclonedds). Samples are
 /// received on the caller's thread: wait(), then take() on each reader.
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cstdint>
@@ -326,6 +327,13 @@ class Transport {
 /// The participants seen by @p transport that announced exactly @p user_data (e.g. the
 /// recorders, wire::recorder_user_data), by GUID.
 std::set<std::string> participants_announcing(const Transport& transport, std::string_view user_data);
+
+/// The time left until @p deadline, never negative: for several waits (e.g. each writer's
+/// wait_for_acknowledgments) under one deadline.
+inline std::chrono::nanoseconds time_left(std::chrono::steady_clock::time_point deadline) {
+  return std::max(std::chrono::nanoseconds::zero(),
+                  std::chrono::duration_cast<std::chrono::nanoseconds>(deadline - std::chrono::steady_clock::now()));
+}
 
 /// Whether @p remotes include an endpoint of every participant in @p participants.
 bool matched_with_all(const std::vector<RemoteEndpoint>& remotes,
