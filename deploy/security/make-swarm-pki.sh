@@ -130,6 +130,13 @@ topic_rule() {
 EOF
 }
 
+# No whole-message (RTPS) protection: every submessage is already signed (metadata) and every
+# payload encrypted by the topic rules, and discovery and liveliness are encrypted. Fast DDS 2.9
+# as packaged (statistics compiled in, assertions on) aborts when a protected RTPS message comes
+# out of encoding within a statistics submessage of its buffer's size: the receiver-specific
+# MACs grow the message after the room for statistics was reserved (later Fast DDS reserves
+# room for the encoding, `calculate_extra_size_for_rtps_message`). Seen in about one secure run
+# in ten (docs/security.md, "The files").
 governance=$(cat <<EOF
 <?xml version="1.0" encoding="UTF-8"?>
 <dds xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance"
@@ -141,7 +148,7 @@ governance=$(cat <<EOF
       <enable_join_access_control>true</enable_join_access_control>
       <discovery_protection_kind>ENCRYPT</discovery_protection_kind>
       <liveliness_protection_kind>ENCRYPT</liveliness_protection_kind>
-      <rtps_protection_kind>SIGN</rtps_protection_kind>
+      <rtps_protection_kind>NONE</rtps_protection_kind>
       <topic_access_rules>
 $(topic_rule "$prefix/robot_*/proximity")
 $(topic_rule "$prefix/robot_*/decision")
