@@ -51,8 +51,8 @@ void add_common(CLI::App* sub, Common& c) {
 /// --jobs on a subcommand whose in-process seeds retreat-launch runs (robotarium, controllers, noise, sweep).
 void add_jobs(CLI::App* sub, Common& c) {
   sub->add_option("--jobs", c.jobs,
-                  "in-process seeds run at once, 1..256, passed to retreat-launch --jobs (default: "
-                  "the core count)");
+                  "in-process seeds run at once, 1..256, passed to retreat-launch --jobs, and the "
+                  "threads that read the runs and compute the predictions (default: the core count)");
 }
 
 /// The defaults of the common options; the scenarios directory must exist.

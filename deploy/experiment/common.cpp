@@ -4,11 +4,15 @@
 #include "retreat/core/paths.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <exception>
 #include <fstream>
+#include <mutex>
+#include <thread>
 
 namespace retreat::experiment {
 namespace {
@@ -56,6 +60,33 @@ void write_text(const std::string& path, const std::string& text) {
 }
 
 void write_json(const std::string& path, const nlohmann::json& j) { write_text(path, sanitised(j).dump(2) + '\n'); }
+
+unsigned worker_count(std::optional<unsigned> jobs) {
+  return jobs.value_or(std::max(1u, std::thread::hardware_concurrency()));
+}
+
+void for_each_index(std::size_t n, unsigned jobs, const std::function<void(std::size_t)>& fn) {
+  std::atomic<std::size_t> next{0};
+  std::exception_ptr failure;
+  std::mutex failure_mutex;
+  const auto work = [&] {
+    for (std::size_t i = next++; i < n; i = next++) {
+      try {
+        fn(i);
+      } catch (...) {
+        const std::lock_guard lock(failure_mutex);
+        if (!failure) failure = std::current_exception();
+        next = n;  // the others finish what they began and take nothing more
+      }
+    }
+  };
+  const auto threads = static_cast<std::size_t>(std::max(1u, jobs));
+  std::vector<std::thread> helpers;
+  for (std::size_t t = 1; t < std::min(threads, n); ++t) helpers.emplace_back(work);
+  work();
+  for (auto& h : helpers) h.join();
+  if (failure) std::rethrow_exception(failure);
+}
 
 std::vector<std::string> compared_controllers(const Common& common) {
   std::vector<std::string> rules;

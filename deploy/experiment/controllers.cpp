@@ -55,6 +55,7 @@ struct Tables {
       "that left (min–max) |\n"
       "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   std::uint32_t by_robot_runs = 200;  ///< runs of the robot-by-robot chain (quick: 20)
+  unsigned jobs = 1;                  ///< threads the robot-by-robot chain's runs are shared among
 };
 
 /// Every controller on `c`, one ensemble each (paper first).
@@ -85,7 +86,7 @@ void tabulate(Tables& t, const QueueCase& c, const Ensemble& e, const scenario::
   const auto predicted = predicted_population(s, e.label, duration);
   const double predicted_half =
       predicted ? model::time_mean(*predicted, s.agent.dt, duration / 2.0, duration) : std::nan("");
-  const double by_robot_half = model::time_mean(robot_by_robot_chain(s, e.label, duration, t.by_robot_runs),
+  const double by_robot_half = model::time_mean(robot_by_robot_chain(s, e.label, duration, t.by_robot_runs, t.jobs),
                                                 s.agent.dt, duration / 2.0, duration);
   for (const auto& r : e.runs) {
     t.per_seed.row({c.name, e.label, r.seed, r.whole.J, r.whole.lambda, r.whole.output, r.last_half.J,
@@ -204,6 +205,7 @@ int run_controllers(const ControllersOptions& o) {
   const std::string out = o.common.out_dir;
   Tables t(out);
   if (o.common.quick) t.by_robot_runs = 20;
+  t.jobs = worker_count(o.common.jobs);
   for (const auto& c : cases) {
     const auto s = scenario::load(c.file);
     const auto ensembles = run_case(o, c, seeds, controllers, s.model.C);

@@ -15,7 +15,7 @@ Ensemble run_ensemble(const std::string& launcher, const std::string& name, cons
   Ensemble e;
   e.name = name;
   e.label = label;
-  e.runs = read_seed_runs(request.out, C, population_grid);
+  e.runs = read_seed_runs(request.out, C, population_grid, worker_count(request.jobs));
   std::size_t points = 0;
   for (const auto& r : e.runs) points = std::max(points, r.population.size());
   for (std::size_t k = 0; k < points; ++k) {

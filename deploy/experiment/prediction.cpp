@@ -9,6 +9,7 @@
 #include "retreat/agent/onset_window.hpp"
 #include "retreat/core/rng.hpp"
 #include "retreat/core/seed.hpp"
+#include "retreat/experiment/common.hpp"
 #include "retreat/model/encounter.hpp"
 #include "retreat/model/estimation.hpp"
 #include "retreat/model/population.hpp"
@@ -53,7 +54,7 @@ struct ChainRobot {
 }  // namespace
 
 std::vector<double> robot_by_robot_chain(const scenario::Scenario& s, const std::string& controller, double duration,
-                                         std::uint32_t runs) {
+                                         std::uint32_t runs, unsigned jobs) {
   const double area = area_of(s.arena);
   const double c = model::swept_rate(s.model);
   const auto& agent = s.agent;
@@ -61,8 +62,9 @@ std::vector<double> robot_by_robot_chain(const scenario::Scenario& s, const std:
   if (runs == 0) throw std::invalid_argument("robot_by_robot_chain: runs must be >= 1");
   const auto steps = static_cast<std::int64_t>(duration / agent.dt + 1e-9);
   const double first_decision = agent::make_controller(controller)->first_decision_after(agent);
-  std::vector<double> sum(static_cast<std::size_t>(steps) + 1, 0.0);
-  for (std::uint32_t run = 0; run < runs; ++run) {
+  // Run `run`, its robots inside at every step added to `inside_sum`. Each run is seeded on its
+  // own and the sums are integers, so the mean is the same whatever thread ran which run.
+  const auto run_chain = [&](std::uint32_t run, std::vector<std::uint64_t>& inside_sum) {
     Rng rng(seed_for(s.seed, static_cast<std::int64_t>(run), Stream::world));
     std::vector<ChainRobot> inside;
     const auto enter = [&](std::int64_t step) {
@@ -71,7 +73,7 @@ std::vector<double> robot_by_robot_chain(const scenario::Scenario& s, const std:
       }
     };
     for (std::uint32_t i = 0; i < s.arena.robots_inside; ++i) enter(0);
-    sum[0] += static_cast<double>(inside.size());
+    inside_sum[0] += inside.size();
     std::size_t next_arrival = 0;
     for (std::int64_t k = 1; k <= steps; ++k) {
       const double t = static_cast<double>(k) * agent.dt;
@@ -94,11 +96,24 @@ std::vector<double> robot_by_robot_chain(const scenario::Scenario& s, const std:
                                            s.model,  agent,       robot.window};
         return rng.uniform() < std::clamp(robot.rule->retreat_probability(input), 0.0, 1.0);
       });
-      sum[static_cast<std::size_t>(k)] += static_cast<double>(inside.size());
+      inside_sum[static_cast<std::size_t>(k)] += inside.size();
     }
+  };
+  // Runs in `parts` contiguous blocks, one sum each.
+  const std::size_t parts = std::clamp<std::size_t>(jobs, 1, runs);
+  std::vector<std::vector<std::uint64_t>> sums(parts, std::vector<std::uint64_t>(static_cast<std::size_t>(steps) + 1, 0));
+  for_each_index(parts, jobs, [&](std::size_t part) {
+    const auto first = static_cast<std::uint32_t>(part * runs / parts);
+    const auto last = static_cast<std::uint32_t>((part + 1) * runs / parts);
+    for (std::uint32_t run = first; run < last; ++run) run_chain(run, sums[part]);
+  });
+  std::vector<double> mean(static_cast<std::size_t>(steps) + 1, 0.0);
+  for (std::size_t k = 0; k < mean.size(); ++k) {
+    std::uint64_t total = 0;
+    for (const auto& sum : sums) total += sum[k];
+    mean[k] = static_cast<double>(total) / static_cast<double>(runs);
   }
-  for (auto& v : sum) v /= static_cast<double>(runs);
-  return sum;
+  return mean;
 }
 
 std::optional<std::vector<double>> predicted_population(const scenario::Scenario& s, const std::string& controller,

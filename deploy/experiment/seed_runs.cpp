@@ -111,9 +111,44 @@ void pad_emptied_run(Telemetry& t, const nlohmann::json& summary) {
 
 std::uint64_t seed_of(const fs::path& p) { return std::strtoull(p.filename().string().c_str() + 5, nullptr, 10); }
 
+SeedRun read_seed_run(const fs::path& d, double C, double grid_step) {
+  SeedRun r;
+  r.seed = seed_of(d);
+  r.dir = d.string();
+  std::ifstream in(d / "summary.json");
+  nlohmann::json summary;
+  try {
+    summary = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw RunFailure("'" + (d / "summary.json").string() + "': " + e.what());
+  }
+  r.area = summary.at("area").get<double>();
+  r.optimal_population = summary.at("optimal_population").get<double>();
+  r.agents_lost = summary.at("agents").value("lost", 0u);
+  r.trajectory_sha256 = summary.value("trajectory_sha256", std::string());
+  auto t = read_telemetry((d / "telemetry.csv").string());
+  pad_emptied_run(t, summary);
+  r.duration = t.time.back();
+  r.final_population = t.inside.back();
+  r.departed = t.departed.back();
+  r.retreating_at_end = t.retreating.back();
+  r.whole = span_cost(t, 0.0, r.duration, r.area, C);
+  r.last_half = span_cost(t, r.duration / 2.0, r.duration, r.area, C);
+  r.mean_last_300s = span_cost(t, std::max(0.0, r.duration - 300.0), r.duration, r.area, C).mean_population;
+  std::size_t k = 0;
+  const auto steps = static_cast<std::size_t>(std::floor(r.duration / grid_step + 1e-9));
+  for (std::size_t i = 0; i <= steps; ++i) {
+    const double at = grid_step * static_cast<double>(i);
+    while (k + 1 < t.time.size() && t.time[k + 1] <= at + 1e-9) ++k;
+    // Before the first tick the population is the first tick's (robots_inside at t = 0).
+    r.population.push_back(t.inside[k]);
+  }
+  return r;
+}
+
 }  // namespace
 
-std::vector<SeedRun> read_seed_runs(const std::string& launch_out, double C, double grid_step) {
+std::vector<SeedRun> read_seed_runs(const std::string& launch_out, double C, double grid_step, unsigned jobs) {
   std::vector<fs::path> dirs;
   std::error_code ec;
   for (const auto& e : fs::directory_iterator(launch_out, ec)) {
@@ -121,41 +156,9 @@ std::vector<SeedRun> read_seed_runs(const std::string& launch_out, double C, dou
   }
   if (dirs.empty()) throw RunFailure("'" + launch_out + "': no seed_<n> run directories");
   std::sort(dirs.begin(), dirs.end(), [](const auto& a, const auto& b) { return seed_of(a) < seed_of(b); });
-  std::vector<SeedRun> runs;
-  for (const auto& d : dirs) {
-    SeedRun r;
-    r.seed = seed_of(d);
-    r.dir = d.string();
-    std::ifstream in(d / "summary.json");
-    nlohmann::json summary;
-    try {
-      summary = nlohmann::json::parse(in);
-    } catch (const nlohmann::json::exception& e) {
-      throw RunFailure("'" + (d / "summary.json").string() + "': " + e.what());
-    }
-    r.area = summary.at("area").get<double>();
-    r.optimal_population = summary.at("optimal_population").get<double>();
-    r.agents_lost = summary.at("agents").value("lost", 0u);
-    r.trajectory_sha256 = summary.value("trajectory_sha256", std::string());
-    auto t = read_telemetry((d / "telemetry.csv").string());
-    pad_emptied_run(t, summary);
-    r.duration = t.time.back();
-    r.final_population = t.inside.back();
-    r.departed = t.departed.back();
-    r.retreating_at_end = t.retreating.back();
-    r.whole = span_cost(t, 0.0, r.duration, r.area, C);
-    r.last_half = span_cost(t, r.duration / 2.0, r.duration, r.area, C);
-    r.mean_last_300s = span_cost(t, std::max(0.0, r.duration - 300.0), r.duration, r.area, C).mean_population;
-    std::size_t k = 0;
-    const auto steps = static_cast<std::size_t>(std::floor(r.duration / grid_step + 1e-9));
-    for (std::size_t i = 0; i <= steps; ++i) {
-      const double at = grid_step * static_cast<double>(i);
-      while (k + 1 < t.time.size() && t.time[k + 1] <= at + 1e-9) ++k;
-      // Before the first tick the population is the first tick's (robots_inside at t = 0).
-      r.population.push_back(t.inside[k]);
-    }
-    runs.push_back(std::move(r));
-  }
+  // Each seed's directory is read on its own: the same runs, in seed order, whatever `jobs` is.
+  std::vector<SeedRun> runs(dirs.size());
+  for_each_index(dirs.size(), jobs, [&](std::size_t i) { runs[i] = read_seed_run(dirs[i], C, grid_step); });
   return runs;
 }
 

@@ -44,7 +44,8 @@ struct SeedRun {
 
 /// Reads every OUT/seed_<n>/ the launcher wrote (ascending seed). `C` is the cost weight;
 /// `grid_step` the spacing of SeedRun::population [s]. Throws RunFailure when a seed directory
-/// lacks telemetry.csv or summary.json, or they do not parse.
-std::vector<SeedRun> read_seed_runs(const std::string& launch_out, double C, double grid_step);
+/// lacks telemetry.csv or summary.json, or they do not parse. Up to `jobs` directories are read
+/// at once; the result is the same whatever `jobs` is.
+std::vector<SeedRun> read_seed_runs(const std::string& launch_out, double C, double grid_step, unsigned jobs = 1);
 
 }  // namespace retreat::experiment

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <stdexcept>
 #include <string>
 
@@ -57,6 +59,17 @@ TEST(Prediction, TheRobotByRobotChainIsTheSameForTheSameScenario) {
   EXPECT_EQ(a, robot_by_robot_chain(s, "adaptive-proportional", 300.0, 3));
   ASSERT_EQ(a.size(), 10001U);
   EXPECT_EQ(a.front(), static_cast<double>(s.arena.robots_inside));
+}
+
+TEST(Prediction, TheRobotByRobotChainIsTheSameOnAnyNumberOfThreads) {
+  // The runs shared among 1, 2, 3 and 7 threads (7 runs: one each), and more threads than runs.
+  const auto s = retreat::scenario::load(scenarios + "/steady-influx.yaml", {});
+  const auto one = robot_by_robot_chain(s, "paper", 600.0, 7, 1);
+  for (const unsigned jobs : {2U, 3U, 7U, 16U}) {
+    EXPECT_EQ(robot_by_robot_chain(s, "paper", 600.0, 7, jobs), one) << jobs << " threads";
+  }
+  // Not a constant: robots come and go in the endless queue.
+  EXPECT_NE(*std::min_element(one.begin(), one.end()), *std::max_element(one.begin(), one.end()));
 }
 
 TEST(Prediction, OnlyCountOnlyRulesHaveAnExactChain) {

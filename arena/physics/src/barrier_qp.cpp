@@ -13,6 +13,14 @@ double slack(const Vec2& a, const Vec2& u, double b) {
   return 1e-12 * (a.norm() * (u.norm() + 1e-3) + std::abs(b));
 }
 
+/// aᵀu ≤ b + slack(a, u, b). The slack (two square roots) is needed only when aᵀu > b: b plus
+/// a slack ≥ 0 rounds to at least b, so aᵀu ≤ b already decides, with the same answer (for
+/// numbers; a NaN never reaches here from a world whose poses are finite).
+bool satisfied(const Vec2& a, const Vec2& u, double b) {
+  const double au = a.dot(u);
+  return au <= b || au <= b + slack(a, u, b);
+}
+
 double bound_of(const HalfPlane& c, bool relax) { return relax ? std::max(c.b, 0.0) : c.b; }
 
 /// The incremental solve (Seidel 1991). Invariant: u is the projection of û onto the polygon of
@@ -34,7 +42,7 @@ bool solve(const Vec2& u_hat, const HalfPlane* c, std::size_t n, bool relax, Vec
       }
       continue;
     }
-    if (a.dot(u) <= b + slack(a, u, b)) {
+    if (satisfied(a, u, b)) {
       continue;
     }
     const double norm = std::sqrt(aa);
@@ -47,10 +55,9 @@ bool solve(const Vec2& u_hat, const HalfPlane* c, std::size_t n, bool relax, Vec
       const double bj = bound_of(c[j], relax);
       const double numerator = bj - aj.dot(p0);
       const double denominator = aj.dot(d);
-      const double tolerance = slack(aj, p0, bj);
       if (std::abs(denominator) <= 1e-12 * aj.norm()) {
         // Parallel lines: all of line k is on one side of constraint j.
-        if (numerator < -tolerance) {
+        if (numerator < -slack(aj, p0, bj)) {
           return false;
         }
         continue;
@@ -84,7 +91,7 @@ QpResult solve_barrier_qp(const Vec2& u_hat, const HalfPlane* constraints, std::
   bool feasible_hat = true;
   for (std::size_t k = 0; k < count && feasible_hat; ++k) {
     const HalfPlane& c = constraints[k];
-    feasible_hat = c.a.dot(u_hat) <= c.b + slack(c.a, u_hat, c.b);
+    feasible_hat = satisfied(c.a, u_hat, c.b);
   }
   if (feasible_hat) {
     result.u = u_hat;

@@ -48,6 +48,24 @@ void CollectionTask::PointSet::erase(std::uint32_t index) {
 }
 
 long CollectionTask::PointSet::nearest_within(const Vec2& p, double radius) const {
+  // Nearest wins; ties go to the lower index, so the choice does not depend on visiting order.
+  const auto closer = [&](std::uint32_t k, long best, double best_d2, double d2) {
+    return d2 <= radius * radius && (best < 0 || d2 < best_d2 || (d2 == best_d2 && static_cast<long>(k) < best));
+  };
+  if (points.size() <= few_points) {
+    // A handful of locations (the paper's arena holds four of each): all of them, a superset of
+    // the 3×3 cells' points, is cheaper than finding the cells, and gives the same answer.
+    long best = -1;
+    double best_d2 = 0.0;
+    for (std::uint32_t k = 0; k < points.size(); ++k) {
+      const double d2 = (points[k] - p).squaredNorm();
+      if (closer(k, best, best_d2, d2)) {
+        best_d2 = d2;
+        best = static_cast<long>(k);
+      }
+    }
+    return best;
+  }
   const double x0 = -0.5 * nx * cell;
   const double y0 = -0.5 * ny * cell;
   const int cx = std::clamp(static_cast<int>(std::floor((p.x() - x0) / cell)), 0, nx - 1);
@@ -60,9 +78,7 @@ long CollectionTask::PointSet::nearest_within(const Vec2& p, double radius) cons
            cells[static_cast<std::size_t>(y) * static_cast<std::size_t>(nx) +
                  static_cast<std::size_t>(x)]) {
         const double d2 = (points[k] - p).squaredNorm();
-        // Nearest wins; ties go to the lower index, so the choice does not depend on cell order.
-        if (d2 <= radius * radius &&
-            (best < 0 || d2 < best_d2 || (d2 == best_d2 && static_cast<long>(k) < best))) {
+        if (closer(k, best, best_d2, d2)) {
           best_d2 = d2;
           best = static_cast<long>(k);
         }

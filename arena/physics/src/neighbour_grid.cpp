@@ -20,16 +20,6 @@ NeighbourGrid::NeighbourGrid(const Vec2& lo, const Vec2& hi, double min_cell_siz
   start_.assign(static_cast<std::size_t>(nx_) * static_cast<std::size_t>(ny_) + 1, 0);
 }
 
-int NeighbourGrid::cell_x(double x) const noexcept {
-  const double c = std::floor((x - lo_.x()) * inv_cell_);
-  return c <= 0.0 ? 0 : (c >= nx_ - 1 ? nx_ - 1 : static_cast<int>(c));
-}
-
-int NeighbourGrid::cell_y(double y) const noexcept {
-  const double c = std::floor((y - lo_.y()) * inv_cell_);
-  return c <= 0.0 ? 0 : (c >= ny_ - 1 ? ny_ - 1 : static_cast<int>(c));
-}
-
 void NeighbourGrid::build(const std::vector<Vec2>& points) {
   const std::size_t n = points.size();
   std::fill(start_.begin(), start_.end(), 0);

@@ -21,8 +21,12 @@ double wrap_angle(double angle) {
 }
 
 Pose integrate_euler(const Pose& pose, const UnicycleCommand& command, double dt) {
+  return integrate_euler(pose, heading(pose.theta), command, dt);
+}
+
+Pose integrate_euler(const Pose& pose, const Vec2& e, const UnicycleCommand& command, double dt) {
   Pose next;
-  next.position = pose.position + command.v * dt * heading(pose.theta);
+  next.position = pose.position + command.v * dt * e;
   next.theta = wrap_angle(pose.theta + command.omega * dt);
   return next;
 }

@@ -1,6 +1,7 @@
 #include "world_physical.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 #include "retreat/core/seed.hpp"
@@ -110,7 +111,10 @@ void PhysicalWorld::step_physics() {
     if (stats_[id].phase == Phase::inside) {
       stats_[id].state_time[static_cast<std::size_t>(body.sensed_state)] += dt_;
     }
-    if (!body.external) body.pose = integrate_euler(body.pose, body.command, dt_);
+    if (!body.external) {
+      const bool sensed = std::bit_cast<std::uint64_t>(body.pose.theta) == body.heading_theta_bits;
+      body.pose = integrate_euler(body.pose, sensed ? body.heading : heading(body.pose.theta), body.command, dt_);
+    }
   }
   ++step_;
   time_ = static_cast<double>(step_) * dt_;
@@ -185,10 +189,13 @@ void PhysicalWorld::sense(bool initial) {
   heading_.resize(n);
   projected_.resize(n);
   for (std::size_t k = 0; k < n; ++k) {
-    const Pose& pose = bodies_[active_[k]].pose;
+    Body& body = bodies_[active_[k]];
+    const Pose& pose = body.pose;
     position_[k] = pose.position;
     heading_[k] = heading(pose.theta);
     projected_[k] = pose.position + l * heading_[k];
+    body.heading = heading_[k];
+    body.heading_theta_bits = std::bit_cast<std::uint64_t>(pose.theta);
   }
   grid_.build(position_);
 

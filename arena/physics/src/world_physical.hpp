@@ -2,6 +2,7 @@
 /// @file
 /// The physical world (private header; use make_world()).
 
+#include <cstdint>
 #include <limits>
 #include <vector>
 
@@ -47,6 +48,10 @@ class PhysicalWorld final : public WorldBase {
     /// clearance(q) ≥ boundary_clearance − |q − boundary_q| while q has not gone far.
     Vec2 boundary_q = Vec2::Zero();
     double boundary_clearance = -std::numeric_limits<double>::infinity();
+    /// heading(θ) as the last sense() computed it, and the θ's bits it is for: the next step's
+    /// motion reuses it while θ has not changed since (poses set in between are recomputed).
+    Vec2 heading = Vec2::UnitX();
+    std::uint64_t heading_theta_bits = ~std::uint64_t{0};  // a NaN's bits: no θ matches
   };
 
   bool is_external_in_d(RobotId id) const;

@@ -113,6 +113,37 @@ TEST(PhysicsCollectionTask, NothingHappensFartherThanDeltaFromEveryLocation) {
   }
 }
 
+TEST(PhysicsCollectionTask, APickUpTakesTheNearestLocationWithinDeltaWhateverTheSetsSize) {
+  // 8 locations (looked up one by one) and 8,200 (looked up by cells): the location taken is
+  // the nearest within δ, the lower index on a tie, as a search of every location finds it.
+  for (const auto& [side, density] : {std::pair{2.0, 2.0}, std::pair{100.0, 0.82}}) {
+    Rng rng(5);
+    const Domain d = Domain::rectangle(side, side);
+    CollectionTask task(d, density, density, 0.3, rng);
+    ASSERT_EQ(task.pickups().size(), static_cast<std::size_t>(std::llround(density * side * side)));
+    int taken = 0;
+    for (int k = 0; k < 4000; ++k) {
+      const Vec2 p = k % 2 == 0 ? d.sample_uniform(rng) : task.pickups()[static_cast<std::size_t>(k) % task.pickups().size()] + Vec2(0.2, -0.1);
+      long nearest = -1;
+      double nearest_d2 = 0.0;
+      for (std::size_t i = 0; i < task.pickups().size(); ++i) {
+        const double d2 = (task.pickups()[i] - p).squaredNorm();
+        if (d2 <= 0.3 * 0.3 && (nearest < 0 || d2 < nearest_d2)) {
+          nearest = static_cast<long>(i);
+          nearest_d2 = d2;
+        }
+      }
+      const std::vector<Vec2> before = task.pickups();
+      ASSERT_EQ(task.try_pick_up(p, rng), nearest >= 0) << "side " << side << ", query " << k;
+      for (std::size_t i = 0; i < before.size(); ++i) {
+        EXPECT_EQ(task.pickups()[i] != before[i], static_cast<long>(i) == nearest) << "side " << side << ", query " << k;
+      }
+      taken += nearest >= 0 ? 1 : 0;
+    }
+    EXPECT_GT(taken, 1000) << "side " << side;  // the queries beside a location find one
+  }
+}
+
 TEST(PhysicsInflux, SteadyArrivalsComeEveryInverseRateSeconds) {
   Rng rng(4);
   Influx influx(InfluxKind::steady, 0.0603, rng);

@@ -52,6 +52,8 @@ class CollectionTask {
     void erase(std::uint32_t index);
     // Index of the nearest point within radius of p, or -1.
     long nearest_within(const Vec2& p, double radius) const;
+    // Up to this many points a query looks at every one rather than at the cells around p.
+    static constexpr std::size_t few_points = 16;
   };
   void init(PointSet& set, std::size_t count, double density, Rng& rng) const;
 

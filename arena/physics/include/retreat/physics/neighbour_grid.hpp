@@ -2,6 +2,7 @@
 /// @file
 /// Cell lists for fixed-radius neighbour search, linear in the number of points.
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -48,8 +49,15 @@ class NeighbourGrid {
   }
 
  private:
-  int cell_x(double x) const noexcept;
-  int cell_y(double y) const noexcept;
+  // In the header: every query and every build calls them, once per point and axis.
+  int cell_x(double x) const noexcept {
+    const double c = std::floor((x - lo_.x()) * inv_cell_);
+    return c <= 0.0 ? 0 : (c >= nx_ - 1 ? nx_ - 1 : static_cast<int>(c));
+  }
+  int cell_y(double y) const noexcept {
+    const double c = std::floor((y - lo_.y()) * inv_cell_);
+    return c <= 0.0 ? 0 : (c >= ny_ - 1 ? ny_ - 1 : static_cast<int>(c));
+  }
 
   Vec2 lo_;
   double cell_ = 1.0;

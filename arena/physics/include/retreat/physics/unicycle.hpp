@@ -48,6 +48,10 @@ UnicycleCommand clamp_command(const UnicycleCommand& command, double max_speed,
 /// One forward-Euler step of length @p dt [s]: p += v·e(θ)·dt, θ += ω·dt (wrapped to (−π, π]).
 Pose integrate_euler(const Pose& pose, const UnicycleCommand& command, double dt);
 
+/// The same step with e = heading(pose.theta) given (a caller that has it already): the same
+/// numbers, without computing the cosine and sine again.
+Pose integrate_euler(const Pose& pose, const Vec2& e, const UnicycleCommand& command, double dt);
+
 /// @p angle wrapped to (−π, π] [rad].
 double wrap_angle(double angle);
 

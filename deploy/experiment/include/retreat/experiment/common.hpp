@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <stdexcept>
@@ -41,6 +42,15 @@ struct Common {
   std::vector<std::string> controllers;  ///< --controllers (controllers, noise, sweep): the rules
                                          ///< asked for, registered names; empty: every one
 };
+
+/// The threads the experiment's own work uses (reading runs, predictions): `jobs` (--jobs), or
+/// the core count when it is not given (the launcher's default too).
+unsigned worker_count(std::optional<unsigned> jobs);
+
+/// Calls `fn(i)` once for every i in [0, n), on up to `jobs` threads (the calling one among
+/// them), the indices taken in ascending order. The first exception any call throws is
+/// rethrown once every thread has stopped (the indices not yet begun are skipped).
+void for_each_index(std::size_t n, unsigned jobs, const std::function<void(std::size_t)>& fn);
 
 /// The rules a comparison runs: `paper` first (every comparison is against it), then the ones
 /// @p common asks for in the registry's order, or every registered rule when it asks for none.

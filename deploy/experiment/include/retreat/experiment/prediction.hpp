@@ -33,9 +33,10 @@ std::optional<std::vector<double>> predicted_population(const scenario::Scenario
 /// chain averages away: each robot's age and a window that holds the past L seconds of a
 /// changing N (the lag that makes `paper` overshoot), and it predicts rules with memory. No
 /// space, no physics: only the encounter model. E[robots inside] at each step, the mean over
-/// @p runs runs seeded from s.seed (the same numbers every time).
+/// @p runs runs seeded from s.seed (the same numbers every time, whatever @p jobs is: the
+/// threads the runs are shared among).
 /// @throws std::invalid_argument if @p runs is 0.
 std::vector<double> robot_by_robot_chain(const scenario::Scenario& s, const std::string& controller, double duration,
-                                         std::uint32_t runs);
+                                         std::uint32_t runs, unsigned jobs = 1);
 
 }  // namespace retreat::experiment
