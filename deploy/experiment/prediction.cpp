@@ -75,17 +75,18 @@ std::vector<double> robot_by_robot_chain(const scenario::Scenario& s, const std:
     for (std::uint32_t i = 0; i < s.arena.robots_inside; ++i) enter(0);
     inside_sum[0] += inside.size();
     std::size_t next_arrival = 0;
+    const PoissonDraw arrivals_in_a_step(arrivals.rate * agent.dt);
     for (std::int64_t k = 1; k <= steps; ++k) {
       const double t = static_cast<double>(k) * agent.dt;
       while (next_arrival < arrivals.times.size() && arrivals.times[next_arrival] <= t) {
         enter(k);
         ++next_arrival;
       }
-      for (std::uint64_t n = rng.poisson(arrivals.rate * agent.dt); n > 0; --n) enter(k);
+      for (std::uint64_t n = arrivals_in_a_step(rng); n > 0; --n) enter(k);
       // Each robot's onsets this step: the model's encounter rate of the other N − 1 robots.
       const double others = inside.empty() ? 0.0 : static_cast<double>(inside.size() - 1);
-      const double onset_mean = c * others / area * agent.dt;
-      for (auto& robot : inside) robot.window.add(t, rng.poisson(onset_mean));
+      const PoissonDraw onsets(c * others / area * agent.dt);
+      for (auto& robot : inside) robot.window.add(t, onsets(rng));
       std::erase_if(inside, [&](ChainRobot& robot) {
         const std::int64_t own = k - robot.entry_step;
         const double time_inside = static_cast<double>(own) * agent.dt;

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdint>
 #include <set>
 
@@ -60,6 +61,43 @@ TEST(CounterUniform, DependsOnTheKeyAndTheCounterOnlyAndStaysBelowOne) {
   }
   EXPECT_EQ(seen.size(), 1000u);
   EXPECT_NE(retreat::counter_uniform(42, 5), retreat::counter_uniform(43, 5));
+}
+
+
+// Rng::poisson as it was written before PoissonDraw, a chunk of mean <= 30 at a time with its
+// own exp(−chunk) (the robot-by-robot chain's predictions were computed with it).
+std::uint64_t poisson_written_out(retreat::Rng& rng, double mean) {
+  std::uint64_t total = 0;
+  while (mean > 0.0) {
+    const double chunk = mean > 30.0 ? 30.0 : mean;
+    mean -= chunk;
+    double p = std::exp(-chunk);
+    double cdf = p;
+    const double u = rng.uniform();
+    std::uint64_t k = 0;
+    while (u > cdf && k < 1000) {
+      ++k;
+      p *= chunk / static_cast<double>(k);
+      cdf += p;
+    }
+    total += k;
+  }
+  return total;
+}
+
+TEST(PoissonDraw, DrawsWhatPoissonByInversionDrawsChunkByChunk) {
+  for (const double mean : {0.0, -1.0, 1e-3, 0.5, 3.7, 29.999, 30.0, 30.5, 60.0, 75.0}) {
+    retreat::Rng expected(42);
+    retreat::Rng by_rng(42);
+    retreat::Rng by_draw(42);
+    const retreat::PoissonDraw draw(mean);
+    for (int k = 0; k < 2000; ++k) {
+      const std::uint64_t want = poisson_written_out(expected, mean);
+      ASSERT_EQ(by_rng.poisson(mean), want) << "mean " << mean << ", draw " << k;
+      ASSERT_EQ(draw(by_draw), want) << "mean " << mean << ", draw " << k;
+    }
+    EXPECT_EQ(by_draw(), expected()) << "mean " << mean << ": as many uniforms taken";
+  }
 }
 
 }  // namespace

@@ -56,6 +56,7 @@ class Rng {
   double exponential(double rate) noexcept;
 
   /// Poisson(@p mean) by inversion (exact; cost grows linearly with the mean); 0 if mean <= 0.
+  /// PoissonDraw draws the same numbers with exp(−mean) computed once, for many draws.
   std::uint64_t poisson(double mean) noexcept;
 
  private:
@@ -63,6 +64,23 @@ class Rng {
     return (x << k) | (x >> (64 - k));
   }
   std::array<std::uint64_t, 4> s_{};
+};
+
+/// Draws of Poisson(@p mean) for one mean: the numbers Rng::poisson(mean) draws from the same
+/// generator, bit for bit, without its exp(−mean) per draw (the robot-by-robot chain draws one
+/// per robot and step, all with that step's mean).
+class PoissonDraw {
+ public:
+  /// Splits @p mean into the chunks of at most 30 that Rng::poisson draws one after another.
+  explicit PoissonDraw(double mean) noexcept;
+
+  /// One draw, from @p rng.
+  std::uint64_t operator()(Rng& rng) const noexcept;
+
+ private:
+  std::uint64_t full_chunks_ = 0;  ///< chunks of mean 30, drawn first
+  double last_ = 0.0;              ///< the last chunk's mean, in (0, 30]; 0: none
+  double exp_last_ = 1.0;          ///< exp(−last_)
 };
 
 /// The @p counter-th value of the SplitMix64 sequence that starts at @p key, uniform on [0, 1)
