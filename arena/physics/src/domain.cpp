@@ -3,38 +3,14 @@
 #include <algorithm>
 #include <cmath>
 
+#include "retreat/physics/ellipse_root.hpp"
+
 namespace retreat::physics {
 namespace {
 
 constexpr double pi = 3.14159265358979323846;
 
 double sign_of(double x) { return x < 0.0 ? -1.0 : 1.0; }
-
-/// Root of F(s) = (r0·z0/(s + r0))² + (z1/(s + 1))² − 1 by bisection (Eberly 2013): F is
-/// decreasing on s > −1 and the root is bracketed by [z1 − 1, |(r0·z0, z1)| − 1].
-double ellipse_root(double r0, double z0, double z1, double g) {
-  const double n0 = r0 * z0;
-  double s0 = z1 - 1.0;
-  double s1 = g < 0.0 ? 0.0 : std::hypot(n0, z1) - 1.0;
-  double s = 0.0;
-  for (int i = 0; i < 200; ++i) {
-    s = 0.5 * (s0 + s1);
-    if (s == s0 || s == s1 || s1 - s0 <= 1e-16 * std::max(1.0, std::abs(s))) {
-      break;
-    }
-    const double ratio0 = n0 / (s + r0);
-    const double ratio1 = z1 / (s + 1.0);
-    const double f = ratio0 * ratio0 + ratio1 * ratio1 - 1.0;
-    if (f > 0.0) {
-      s0 = s;
-    } else if (f < 0.0) {
-      s1 = s;
-    } else {
-      break;
-    }
-  }
-  return s;
-}
 
 /// Nearest point of the ellipse with semi-axes e0 ≥ e1 to (y0, y1) in the closed first quadrant.
 Vec2 nearest_on_ellipse_quadrant(double e0, double e1, double y0, double y1) {

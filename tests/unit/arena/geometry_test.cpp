@@ -3,10 +3,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 #include "retreat/physics/domain.hpp"
+#include "retreat/physics/ellipse_root.hpp"
 #include "retreat/physics/neighbour_grid.hpp"
 #include "retreat/core/rng.hpp"
 #include "retreat/physics/unicycle.hpp"
@@ -85,6 +88,38 @@ TEST(PhysicsDomain, NearestBoundaryPointIsTheClosestOfADenseBoundarySample) {
       EXPECT_FALSE(d.contains(b.point + 1e-6 * b.outward_normal)) << p.transpose();
     }
   }
+}
+
+// ellipse_root must return the bisection's own double (every physical trajectory depends on its
+// last bit), wherever the point is: anywhere in and around the ellipse, within 10⁻¹⁵ … 10⁻¹ of
+// its boundary (where the root is near 0 and the most midpoints fall near it), near the axes,
+// and for a circle, the arena's ellipse, a tall one and a needle (r0 = 1, 2.25, 16, 10⁴).
+TEST(PhysicsEllipseRoot, IsTheBisectionsDoubleBitForBit) {
+  Rng rng(29);
+  std::uint64_t compared = 0;
+  const auto expect_same = [&](double e0, double e1, double y0, double y1) {
+    const double z0 = y0 / e0;
+    const double z1 = y1 / e1;
+    const double g = z0 * z0 + z1 * z1 - 1.0;
+    const double r0 = (e0 / e1) * (e0 / e1);
+    const double want = ellipse_root_by_bisection(r0, z0, z1, g);
+    const double got = ellipse_root(r0, z0, z1, g);
+    ++compared;
+    ASSERT_EQ(std::bit_cast<std::uint64_t>(got), std::bit_cast<std::uint64_t>(want))
+        << "e = (" << e0 << ", " << e1 << "), y = (" << y0 << ", " << y1 << "): " << got << " against " << want;
+  };
+  for (const auto& [e0, e1] : {std::pair{1.0, 1.0}, std::pair{1.2, 0.8}, std::pair{2.0, 0.5}, std::pair{1.0, 0.01}}) {
+    for (int k = 0; k < 100000; ++k) {
+      expect_same(e0, e1, rng.uniform(0.0, 1.5 * e0), rng.uniform(0.0, 1.5 * e1));
+      const double t = rng.uniform(0.0, pi / 2.0);
+      const double off = std::pow(10.0, -rng.uniform(1.0, 15.0)) * (rng.uniform() < 0.5 ? -1.0 : 1.0);
+      expect_same(e0, e1, e0 * std::cos(t) * (1.0 + off), e1 * std::sin(t) * (1.0 + off));
+      expect_same(e0, e1, rng.uniform(0.0, 1.5 * e0), e1 * std::pow(10.0, -rng.uniform(1.0, 12.0)));
+      expect_same(e0, e1, e0 * std::pow(10.0, -rng.uniform(1.0, 12.0)), rng.uniform(0.0, 1.5 * e1));
+      if (HasFatalFailure()) return;
+    }
+  }
+  EXPECT_EQ(compared, 1600000u);
 }
 
 TEST(PhysicsDomain, ClearanceLowerBoundNeverExceedsTheTrueClearance) {
