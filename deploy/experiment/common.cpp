@@ -62,7 +62,7 @@ void write_text(const std::string& path, const std::string& text) {
 void write_json(const std::string& path, const nlohmann::json& j) { write_text(path, sanitised(j).dump(2) + '\n'); }
 
 unsigned worker_count(std::optional<unsigned> jobs) {
-  return jobs.value_or(std::max(1u, std::thread::hardware_concurrency()));
+  return jobs.value_or(scenario::core_count());
 }
 
 void for_each_index(std::size_t n, unsigned jobs, const std::function<void(std::size_t)>& fn) {

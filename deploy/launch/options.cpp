@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <charconv>
 #include <filesystem>
-#include <thread>
 
 #include "retreat/transport/factory.hpp"
 #include "retreat/transport/transport.hpp"
@@ -107,8 +106,7 @@ void plan_jobs(const LaunchOptions& o, Plan& plan) {
     throw UsageError("--jobs " + std::to_string(*o.jobs) +
                      ": only --in-process runs seeds at once (process runs take one at a time)");
   }
-  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
-  plan.jobs = o.jobs ? *o.jobs : (o.in_process ? cores : 1u);
+  plan.jobs = o.jobs ? *o.jobs : (o.in_process ? scenario::core_count() : 1u);
 }
 
 /// --in-process: lockstep, no DDS Security, no recorder.

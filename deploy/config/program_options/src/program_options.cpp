@@ -1,5 +1,6 @@
 #include "retreat/scenario/program_options.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <charconv>
 #include <csignal>
@@ -59,6 +60,8 @@ SeedRange parse_seed_range(const std::string& text, const std::string& option) {
     throw ConfigError(option + " '" + text + "': at most 100000 seeds");
   return r;
 }
+
+unsigned core_count() { return std::max(1u, std::thread::hardware_concurrency()); }
 
 void check_jobs(unsigned jobs) {
   if (jobs < 1 || jobs > max_jobs) {

@@ -80,6 +80,9 @@ SeedRange parse_seed_range(const std::string& text, const std::string& option = 
 /// The largest `--jobs` (seeds run at once in one process).
 inline constexpr unsigned max_jobs = 256;
 
+/// The default `--jobs` of work shared among threads in one process: the core count (at least 1).
+unsigned core_count();
+
 /// Checks `--jobs N`: 1 <= N <= max_jobs. @throws ConfigError naming the value and the range.
 void check_jobs(unsigned jobs);
 
