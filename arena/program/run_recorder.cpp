@@ -28,18 +28,9 @@ constexpr char chain_magic[8] = {'R', 'T', 'C', 'H', 'A', 'I', 'N', '1'};
 
 struct TrajectoryHash::State {
   EVP_MD_CTX* ctx = EVP_MD_CTX_new();
-  bool finished = false;
-  /// Records not yet hashed: SHA-256 of the concatenation is the same however it is fed, and
-  /// one update per 64 KiB costs far less than one per 14-byte record (one per robot and tick).
-  std::array<unsigned char, pending_limit> pending{};
-  std::size_t used = 0;
-  void flush() {
-    EVP_DigestUpdate(ctx, pending.data(), used);
-    used = 0;
-  }
 };
 
-TrajectoryHash::TrajectoryHash() : state_(std::make_unique<State>()) {
+TrajectoryHash::TrajectoryHash() : state_(std::make_unique<State>()), pending_(pending_limit) {
   if (state_->ctx == nullptr || EVP_DigestInit_ex(state_->ctx, EVP_sha256(), nullptr) != 1) {
     throw std::runtime_error("OpenSSL: cannot initialise SHA-256");
   }
@@ -47,22 +38,14 @@ TrajectoryHash::TrajectoryHash() : state_(std::make_unique<State>()) {
 
 TrajectoryHash::~TrajectoryHash() { EVP_MD_CTX_free(state_->ctx); }
 
-void TrajectoryHash::add(std::int64_t tick, std::uint32_t robot, std::uint8_t phase, bool retreat) {
-  // Fixed little-endian layout: 8 bytes tick, 4 bytes robot, 1 byte phase, 1 byte decision.
-  unsigned char record[14];
-  for (int i = 0; i < 8; ++i) record[i] = static_cast<unsigned char>(static_cast<std::uint64_t>(tick) >> (8 * i));
-  for (int i = 0; i < 4; ++i) record[8 + i] = static_cast<unsigned char>(robot >> (8 * i));
-  record[12] = phase;
-  record[13] = retreat ? 1 : 0;
-  auto& state = *state_;
-  if (state.used + sizeof record > pending_limit) state.flush();
-  std::memcpy(state.pending.data() + state.used, record, sizeof record);
-  state.used += sizeof record;
+void TrajectoryHash::flush() {
+  EVP_DigestUpdate(state_->ctx, pending_.data(), used_);
+  used_ = 0;
 }
 
 std::uint64_t TrajectoryHash::link() {
+  flush();
   auto& state = *state_;
-  state.flush();
   EVP_MD_CTX* copy = EVP_MD_CTX_new();
   unsigned char digest[EVP_MAX_MD_SIZE];
   unsigned int size = 0;
@@ -79,7 +62,7 @@ std::uint64_t TrajectoryHash::link() {
 std::string TrajectoryHash::finish() {
   unsigned char digest[EVP_MAX_MD_SIZE];
   unsigned int size = 0;
-  state_->flush();
+  flush();
   EVP_DigestFinal_ex(state_->ctx, digest, &size);
   std::ostringstream out;
   for (unsigned int i = 0; i < size; ++i) {

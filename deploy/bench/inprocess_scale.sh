@@ -12,12 +12,14 @@
 #   * set-up: seconds to build the swarm (N agents and their endpoints) before the first tick;
 #   * each in-process run twice: per-tick lockstep, and event-driven lockstep (run.plans, where
 #     an agent is sent a frame only when its robot's input changes or its plan ends; "planned"
-#     is the share of robot-ticks its plan decided).
+#     is the share of robot-ticks its plan decided); and "deciding": plans again, with agent.L = 3 s
+#     and agent.K_p = 0, so that from tick 100 every agent takes a decision step (a coin) every
+#     tick and nobody leaves (within L = 90 s nobody decides at all).
 #
 # Usage:
 #   deploy/bench/inprocess_scale.sh [--filter REGEX] [--out DIR]
 #   --filter REGEX   Google Benchmark filter over bare_world/N/P and in_process/N/P/E (P: 0
-#                    kinetic, 1 physical; E: 0 per tick, 1 plans), e.g. '/(1000|10000)/'
+#                    kinetic, 1 physical; E: 0 per tick, 1 plans, 2 plans deciding), e.g. '/(1000|10000)/'
 #                    (default: everything)
 #   --out DIR        where the JSON and results.txt go (default: a new directory under /tmp)
 #
@@ -60,7 +62,7 @@ fmt = lambda v, f: (f.format(v) if v is not None else "-")
 for (physical, n, plans), run in sorted(inp.items()):
     b = bare.get((physical, n), {}).get("items_per_second")
     rate = run.get("items_per_second")
-    print(f"{'physical' if physical else 'kinetic':<9} {n:>7} {'plans' if plans else 'per tick':<11} {fmt(b, '{:,.0f}'):>19} "
+    print(f"{'physical' if physical else 'kinetic':<9} {n:>7} {['per tick', 'plans', 'deciding'][plans]:<11} {fmt(b, '{:,.0f}'):>19} "
           f"{fmt(rate, '{:,.0f}'):>25} {fmt(b / rate if b and rate else None, '{:.1f}x'):>9} "
           f"{fmt(run.get('real_time_x'), '{:.2f}'):>12} {fmt(run.get('planned'), '{:.1%}'):>8} {fmt(run.get('setup_s'), '{:.1f}'):>9}")
 PY

@@ -12,6 +12,7 @@
 #include "retreat/experiment/common.hpp"
 #include "retreat/model/encounter.hpp"
 #include "retreat/model/estimation.hpp"
+#include "retreat/model/optimum.hpp"
 #include "retreat/model/population.hpp"
 #include "retreat/physics/domain.hpp"
 
@@ -62,6 +63,7 @@ std::vector<double> robot_by_robot_chain(const scenario::Scenario& s, const std:
   if (runs == 0) throw std::invalid_argument("robot_by_robot_chain: runs must be >= 1");
   const auto steps = static_cast<std::int64_t>(duration / agent.dt + 1e-9);
   const double first_decision = agent::make_controller(controller)->first_decision_after(agent);
+  const double lambda_star = model::lambda_star(s.model);
   // Run `run`, its robots inside at every step added to `inside_sum`. Each run is seeded on its
   // own and the sums are integers, so the mean is the same whatever thread ran which run.
   const auto run_chain = [&](std::uint32_t run, std::vector<std::uint64_t>& inside_sum) {
@@ -94,7 +96,7 @@ std::vector<double> robot_by_robot_chain(const scenario::Scenario& s, const std:
         const std::uint64_t y = robot.window.count_at(t);
         const agent::ControllerInput input{t,        time_inside, y,     agent.L,     agent.dt,
                                            model::mle_density(y, s.model.delta, s.model.v, agent.L),
-                                           s.model,  agent,       robot.window};
+                                           lambda_star, s.model,  agent,       robot.window};
         return rng.uniform() < std::clamp(robot.rule->retreat_probability(input), 0.0, 1.0);
       });
       inside_sum[static_cast<std::size_t>(k)] += inside.size();
@@ -145,7 +147,7 @@ std::optional<std::vector<double>> predicted_population(const scenario::Scenario
       const auto onsets = static_cast<std::uint64_t>(y);
       const agent::ControllerInput input{10.0 * agent.L + inside, inside, onsets, agent.L, agent.dt,
                                          model::mle_density(onsets, s.model.delta, s.model.v, agent.L),
-                                         s.model, agent, window};
+                                         model::lambda_star(s.model), s.model, agent, window};
       q += weights[y] * std::clamp(rule->retreat_probability(input), 0.0, 1.0);
     }
     chain.leave_per_step[n] = std::min(q, 1.0);

@@ -76,7 +76,7 @@ double AdaptiveProportionalController::retreat_probability(const ControllerInput
   if (!(span > 0.0)) return 0.0;  // no time counted yet
   const double lambda_low = confident_density(span_.onsets(), span, input, z_);
   const double rate =
-      model::epsilon(lambda_low, model::lambda_star(input.model), 0.0, input.agent.K_p);
+      model::epsilon(lambda_low, input.lambda_star, 0.0, input.agent.K_p);
   return rate * input.dt;
 }
 

@@ -31,7 +31,7 @@ double lower_confidence_density(std::uint64_t onsets, const model::ModelParams& 
 double ConfidentController::retreat_probability(const ControllerInput& input) {
   const double lambda_low =
       lower_confidence_density(input.onsets_in_window, input.model, input.L, z_);
-  const double rate = model::epsilon(lambda_low, model::lambda_star(input.model),
+  const double rate = model::epsilon(lambda_low, input.lambda_star,
                                      input.agent.lambda_in, input.agent.K_p);
   return rate * input.dt;
 }

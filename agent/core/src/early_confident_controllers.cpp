@@ -36,7 +36,7 @@ ConfidentProportionalController::ConfidentProportionalController(double z) : z_(
 double ConfidentProportionalController::retreat_probability(const ControllerInput& input) {
   const double lambda_low = confident_partial_density(input, z_);
   const double rate =
-      model::epsilon(lambda_low, model::lambda_star(input.model), 0.0, input.agent.K_p);
+      model::epsilon(lambda_low, input.lambda_star, 0.0, input.agent.K_p);
   return rate * input.dt;
 }
 
@@ -44,7 +44,7 @@ InfluxMatchingController::InfluxMatchingController(double z) : proportional_(z) 
 
 double InfluxMatchingController::retreat_probability(const ControllerInput& input) {
   // λ* > 0: the model's parameters are validated (C, δ, v, λ_p, λ_d > 0).
-  const double matching = input.agent.lambda_in / model::lambda_star(input.model);
+  const double matching = input.agent.lambda_in / input.lambda_star;
   return matching * input.dt + proportional_.retreat_probability(input);
 }
 

@@ -38,7 +38,7 @@ double InfluxAwareController::retreat_probability(const ControllerInput& input) 
                                                             input.L, z_)
                                  : input.lambda_hat;
   const double rate =
-      model::epsilon(lambda, model::lambda_star(input.model), influx, input.agent.K_p);
+      model::epsilon(lambda, input.lambda_star, influx, input.agent.K_p);
   const double outflow = std::min(rate, 1.0 / input.dt) * input.lambda_hat;
   steps_.push_back({t, input.lambda_hat, outflow});
   if (steps_.size() >= 2) {

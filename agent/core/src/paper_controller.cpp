@@ -6,7 +6,7 @@
 namespace retreat::agent {
 
 double PaperController::retreat_probability(const ControllerInput& input) {
-  const double rate = model::epsilon(input.lambda_hat, model::lambda_star(input.model),
+  const double rate = model::epsilon(input.lambda_hat, input.lambda_star,
                                      input.agent.lambda_in, input.agent.K_p);
   return rate * input.dt;
 }

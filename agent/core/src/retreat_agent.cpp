@@ -9,6 +9,7 @@
 #include "retreat/agent/controller_registry.hpp"
 #include "retreat/core/rng.hpp"
 #include "retreat/model/estimation.hpp"
+#include "retreat/model/optimum.hpp"
 
 namespace retreat::agent {
 namespace {
@@ -24,6 +25,31 @@ Params validated(Params params) {
   return params;
 }
 
+/// Throws unless @p clock is a valid frame clock.
+void check_clock(const FrameClock& clock) {
+  if (clock.multiplier < 1 || !std::isfinite(clock.period) || clock.period <= 0.0) {
+    throw std::invalid_argument("frame clock " + std::to_string(clock.multiplier) + " x " +
+                                std::to_string(clock.period) +
+                                " s: the multiplier must be >= 1 and the period finite and > 0");
+  }
+}
+
+/// Doubles below this hold every integer exactly.
+constexpr double exact_integers = 0x1p52;
+
+/// The first step k >= 1 that decides, as take_due_steps tests it (a step with
+/// k·dt + tolerance < first_decision does not). 1 if k is too large to find exactly: a step
+/// taken for a deciding one only ends a quiet stretch early, which is always safe.
+std::uint64_t first_deciding_step(double first_decision, double dt, double tolerance) {
+  const auto decides = [&](std::uint64_t k) { return !(static_cast<double>(k) * dt + tolerance < first_decision); };
+  const double estimate = std::ceil((first_decision - tolerance) / dt);
+  if (!(estimate < exact_integers)) return 1;
+  std::uint64_t k = estimate > 1.0 ? static_cast<std::uint64_t>(estimate) : 1;
+  while (k > 1 && decides(k - 1)) --k;
+  while (!decides(k)) ++k;
+  return k;
+}
+
 }  // namespace
 
 RetreatAgent::RetreatAgent(std::uint32_t robot_id, model::ModelParams model, AgentParams agent,
@@ -35,12 +61,15 @@ RetreatAgent::RetreatAgent(std::uint32_t robot_id, model::ModelParams model, Age
       coin_key_(seed),
       window_(agent_.L),
       tolerance_(step_tolerance * agent_.dt),
-      first_decision_(controller_->first_decision_after(agent_)) {
+      first_decision_(controller_->first_decision_after(agent_)),
+      lambda_star_(model::lambda_star(model_)),
+      mle_divisor_(model::mle_divisor(model_.delta, model_.v, agent_.L)) {
   if (!std::isfinite(first_decision_) || first_decision_ < 0.0) {
     throw std::invalid_argument("controller '" + std::string(controller_->name()) +
                                 "' decides from time inside " + std::to_string(first_decision_) +
                                 " s: must be finite and >= 0");
   }
+  first_decision_step_ = first_deciding_step(first_decision_, agent_.dt, tolerance_);
 }
 
 Plan RetreatAgent::plan(const FrameClock& clock, std::int64_t horizon) const {
@@ -50,21 +79,23 @@ Plan RetreatAgent::plan(const FrameClock& clock, std::int64_t horizon) const {
   if (horizon < 1) {
     throw std::invalid_argument("plan horizon = " + std::to_string(horizon) + ": must be >= 1 tick");
   }
-  if (clock.multiplier < 1 || !std::isfinite(clock.period) || clock.period <= 0.0) {
-    throw std::invalid_argument("frame clock " + std::to_string(clock.multiplier) + " x " +
-                                std::to_string(clock.period) +
-                                " s: the multiplier must be >= 1 and the period finite and > 0");
-  }
+  check_clock(clock);
   Plan plan;
   plan.through_tick = *last_tick_ + horizon;
   if (stopped_ || !entry_time_) {
     return plan;  // stopped, or waiting (entering is an input change): no decision to come
   }
+  // Up to the first decision step the covered frames decide nothing: no copy, no stepping.
+  const std::int64_t quiet = quiet_through(clock, RobotPhase::inside, plan.through_tick);
+  if (quiet == plan.through_tick) {
+    return plan;
+  }
   RetreatAgent ahead(*this);
+  ahead.take_quiet_frames(clock, RobotPhase::inside, quiet);
   Observation frame;
   frame.robot_id = robot_id_;
   frame.phase = RobotPhase::inside;
-  for (std::int64_t tick = *last_tick_ + 1; tick <= plan.through_tick; ++tick) {
+  for (std::int64_t tick = quiet + 1; tick <= plan.through_tick; ++tick) {
     frame.tick = tick;
     frame.time = clock.time(tick);
     const FrameResult result = ahead.on_frame(frame);
@@ -80,6 +111,74 @@ Plan RetreatAgent::plan(const FrameClock& clock, std::int64_t horizon) const {
     }
   }
   return plan;
+}
+
+std::int64_t RetreatAgent::quiet_through(const FrameClock& clock, RobotPhase phase, std::int64_t through) const {
+  if (!last_tick_) {
+    throw std::logic_error("RetreatAgent::quiet_through before any accepted frame");
+  }
+  check_clock(clock);
+  const std::int64_t last = *last_tick_;
+  // A frame check() would refuse (or, on a clock that never goes back, the frames after it):
+  // frame by frame, so that it is refused and counted as on_frame does.
+  if (through <= last || !(clock.time(last + 1) >= last_time_) || !std::isfinite(clock.time(through))) {
+    return last;
+  }
+  if (stopped_ || phase != RobotPhase::inside) {
+    return through;  // on_frame only counts such frames: they take no step
+  }
+  if (!entry_time_) {
+    return last;  // the first `inside` frame is the entry: frame by frame
+  }
+  // Step k is taken by a frame at time f unless t_k > f + tolerance (take_due_steps, the same
+  // expressions); the steps before the first deciding one decide nothing. So the frames before
+  // the one that takes that step are quiet; frame times never go back, so a bisection finds it.
+  const std::uint64_t k = std::max(next_step_, first_decision_step_);
+  const double decisive = *entry_time_ + static_cast<double>(k) * agent_.dt;
+  const auto quiet = [&](std::int64_t tick) { return decisive > clock.time(tick) + tolerance_; };
+  if (!quiet(last + 1)) {
+    return last;  // the next frame decides (every frame does, once the agent decides)
+  }
+  if (quiet(through)) {
+    return through;
+  }
+  std::int64_t lo = last + 1;  // quiet
+  std::int64_t hi = through;  // takes the deciding step
+  while (hi - lo > 1) {
+    const std::int64_t mid = lo + (hi - lo) / 2;
+    (quiet(mid) ? lo : hi) = mid;
+  }
+  return lo;
+}
+
+std::int64_t RetreatAgent::take_quiet_frames(const FrameClock& clock, RobotPhase phase, std::int64_t through) {
+  const std::int64_t to = quiet_through(clock, phase, through);
+  const std::int64_t last = *last_tick_;
+  if (to == last) {
+    return last;
+  }
+  frames_.count(FrameVerdict::accepted, static_cast<std::uint64_t>(to - last));
+  last_tick_ = to;
+  last_time_ = clock.time(to);
+  if (phase == RobotPhase::retreating || phase == RobotPhase::departed) {
+    stopped_ = true;
+  } else if (phase == RobotPhase::inside && !stopped_) {
+    // What take_due_steps does with these frames: every step due by the last one is taken, and
+    // none of them decides (quiet_through), so only k moves on, to the first step not yet due.
+    const double entry = *entry_time_;
+    const auto due = [&](std::uint64_t k) {
+      return !(entry + static_cast<double>(k) * agent_.dt > last_time_ + tolerance_);
+    };
+    std::uint64_t k = next_step_;
+    const double estimate = std::floor((last_time_ + tolerance_ - entry) / agent_.dt);
+    if (estimate > static_cast<double>(k) && estimate < exact_integers) {
+      k = static_cast<std::uint64_t>(estimate);
+    }
+    while (k > next_step_ && !due(k - 1)) --k;
+    while (due(k)) ++k;
+    next_step_ = k;
+  }
+  return to;
 }
 
 FrameVerdict RetreatAgent::check(const Observation& frame) const {
@@ -145,9 +244,9 @@ bool RetreatAgent::take_due_steps(double frame_time) {
 
 bool RetreatAgent::decide(double time, double time_inside) {
   const std::uint64_t onsets = window_.count_at(time);
-  const double lambda_hat = model::mle_density(onsets, model_.delta, model_.v, agent_.L);
-  const ControllerInput input{time,       time_inside, onsets, agent_.L, agent_.dt,
-                              lambda_hat, model_,      agent_, window_};
+  const double lambda_hat = model::mle_density(onsets, mle_divisor_);
+  const ControllerInput input{time,       time_inside,  onsets, agent_.L, agent_.dt,
+                              lambda_hat, lambda_star_, model_, agent_,   window_};
   const double raw = controller_->retreat_probability(input);
   if (std::isnan(raw)) {
     throw std::logic_error("controller '" + std::string(controller_->name()) +

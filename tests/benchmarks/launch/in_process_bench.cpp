@@ -28,14 +28,27 @@ constexpr double density = 1.6;  // robots/m², kinetic-1000.yaml's
 /// Ticks per in-process run: 1,000 (30 simulated seconds) kinetic, 300 (9 s) physical.
 std::int64_t ticks_of(bool physical) { return physical ? 300 : 1000; }
 
-retreat::scenario::Scenario scenario_of(std::int64_t robots, bool physical, bool plans = false) {
+/// How the agents are run: lockstep per tick, with plans, or with plans while every agent takes
+/// a decision step every tick.
+enum class Lockstep : std::int64_t { per_tick = 0, plans = 1, plans_deciding = 2 };
+
+retreat::scenario::Scenario scenario_of(std::int64_t robots, bool physical, Lockstep lockstep = Lockstep::per_tick) {
   const double side = std::sqrt(static_cast<double>(robots) / density);
   std::vector<std::string> overrides = {
       "arena.robots_inside=" + std::to_string(robots), "arena.width=" + std::to_string(side),
       "arena.height=" + std::to_string(side),
       "run.duration=" + std::to_string(static_cast<double>(ticks_of(physical)) * 0.03)};
   if (physical) overrides.emplace_back("arena.encounter_model=physical");
-  overrides.emplace_back(plans ? "run.plans=true" : "run.plans=false");  // the scenario says true
+  // The scenario says run.plans: true.
+  overrides.emplace_back(lockstep == Lockstep::per_tick ? "run.plans=false" : "run.plans=true");
+  if (lockstep == Lockstep::plans_deciding) {
+    // With L = 90 s nobody takes a decision step within these runs, and a plan's frames before
+    // the first one are taken in one go. Here every agent takes one every tick from tick 100
+    // (L = 3 s), with a coin each, so a plan's every tick is stepped twice (looking ahead, then
+    // acting on it); K_p = 0 (p = 0) keeps the swarm whole, so every run has the same robots.
+    overrides.emplace_back("agent.L=3");
+    overrides.emplace_back("agent.K_p=0");
+  }
   return retreat::scenario::load(RETREAT_SCENARIOS "/kinetic-1000.yaml", overrides);
 }
 
@@ -47,7 +60,7 @@ void bare_world(benchmark::State& state) {
 }
 
 void in_process(benchmark::State& state) {
-  const auto s = scenario_of(state.range(0), state.range(1) != 0, state.range(2) != 0);
+  const auto s = scenario_of(state.range(0), state.range(1) != 0, static_cast<Lockstep>(state.range(2)));
   std::int64_t ticks = 0;
   std::uint64_t planned = 0;
   double loop = 0.0, total = 0.0;
@@ -71,9 +84,10 @@ void in_process(benchmark::State& state) {
 BENCHMARK(bare_world)
     ->ArgsProduct({{1000, 10000, 100000}, {0, 1}})
     ->Unit(benchmark::kMillisecond);
-// Args: {robots, physical, plans}: plans = 1 is event-driven lockstep (run.plans).
+// Args: {robots, physical, lockstep}: lockstep 0 per tick, 1 event-driven (run.plans), 2 the
+// same with every agent deciding every tick.
 BENCHMARK(in_process)
-    ->ArgsProduct({{1000, 10000, 100000}, {0, 1}, {0, 1}})
+    ->ArgsProduct({{1000, 10000, 100000}, {0, 1}, {0, 1, 2}})
     ->UseManualTime()
     ->Iterations(1)
     ->Unit(benchmark::kSecond);

@@ -35,7 +35,7 @@ struct Robot {
     const std::uint64_t y = window.count_at(t);
     return ControllerInput{t,       t,        y,
                            agent.L, agent.dt, model::mle_density(y, model.delta, model.v, agent.L),
-                           model,   agent,    window};
+                           model::lambda_star(model), model, agent, window};
   }
   // Every step k·dt in (0, t1]; the last step's probability.
   double run(Controller& controller, double t1) {

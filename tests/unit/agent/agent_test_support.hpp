@@ -26,6 +26,18 @@ inline Observation frame_at(std::int64_t tick, double dt, std::uint32_t new_onse
   return frame;
 }
 
+/// A frame of robot 0 at @p tick, at @p clock's time for it.
+inline Observation clock_frame(const FrameClock& clock, std::int64_t tick, std::uint32_t onsets,
+                               RobotPhase phase = RobotPhase::inside) {
+  Observation f;
+  f.tick = tick;
+  f.time = clock.time(tick);
+  f.phase = phase;
+  f.in_contact = onsets > 0;
+  f.new_onsets = onsets;
+  return f;
+}
+
 /// Short-window parameters for tests that need many decision steps: L = 3 s, dt = 0.03 s,
 /// so decisions start at step 100.
 inline AgentParams short_window_params(double gain = 0.2) {

@@ -49,7 +49,7 @@ TEST(PaperController, ReturnsEpsilonOfTheEstimateTimesDt) {
   PaperController controller;
   const double lambda_star = model::lambda_star(model);
   for (const double lambda_hat : {0.0, 1.0, lambda_star, 1.6, 3.0, 100.0}) {
-    const ControllerInput input{90.0, 90.0, 0, agent.L, agent.dt, lambda_hat, model, agent, window};
+    const ControllerInput input{90.0, 90.0, 0, agent.L, agent.dt, lambda_hat, lambda_star, model, agent, window};
     EXPECT_EQ(controller.retreat_probability(input),
               model::epsilon(lambda_hat, lambda_star, agent.lambda_in, agent.K_p) * agent.dt);
   }

@@ -26,20 +26,21 @@ namespace {
 // ControllerInput is the whole of what a controller is given (Controller::retreat_probability
 // takes nothing else, and agent_core is a PURE library that cannot link the transport, the
 // scenario loader or the physics: deploy/cmake/RetreatHelpers.cmake refuses). The binding
-// below compiles only while ControllerInput has exactly these nine members of these types; a
+// below compiles only while ControllerInput has exactly these ten members of these types; a
 // field carrying ground truth or another robot's data cannot be added without editing it.
 constexpr bool input_is_only_own_data() {
   using I = ControllerInput;
   static_assert(std::is_aggregate_v<I>);
   I* input = nullptr;
   if (input == nullptr) return true;  // never binds: only the declaration below matters
-  auto& [time, time_inside, onsets, L, dt, lambda_hat, model, agent, window] = *input;
+  auto& [time, time_inside, onsets, L, dt, lambda_hat, lambda_star, model, agent, window] = *input;
   static_assert(std::is_same_v<decltype(time), double>);
   static_assert(std::is_same_v<decltype(time_inside), double>);
   static_assert(std::is_same_v<decltype(onsets), std::uint64_t>);
   static_assert(std::is_same_v<decltype(L), double>);
   static_assert(std::is_same_v<decltype(dt), double>);
   static_assert(std::is_same_v<decltype(lambda_hat), double>);
+  static_assert(std::is_same_v<decltype(lambda_star), double>);  // a function of `model` alone
   static_assert(std::is_same_v<decltype(model), const model::ModelParams&>);
   static_assert(std::is_same_v<decltype(agent), const AgentParams&>);
   static_assert(std::is_same_v<decltype(window), const OnsetWindow&>);
@@ -57,7 +58,7 @@ struct Step {
   // The same at time t, `inside` seconds after the robot's entry.
   ControllerInput inside_for(double t, double inside, std::uint64_t onsets) const {
     return ControllerInput{t,     inside, onsets, agent.L, agent.dt, model::mle_density(onsets, model.delta, model.v, agent.L),
-                           model, agent,  window};
+                           model::lambda_star(model), model, agent, window};
   }
   double lambda_star() const { return model::lambda_star(model); }
   // The window count whose MLE is closest to `lambda` [robots/m²].
@@ -347,7 +348,8 @@ std::vector<double> chances(const std::string& name, const AgentParams& agent, c
     if (t < rule->first_decision_after(agent)) continue;
     const std::uint64_t y = window.count_at(t);
     out.push_back(rule->retreat_probability(
-        {t, t, y, agent.L, agent.dt, model::mle_density(y, model.delta, model.v, agent.L), model, agent, window}));
+        {t, t, y, agent.L, agent.dt, model::mle_density(y, model.delta, model.v, agent.L), model::lambda_star(model),
+         model, agent, window}));
   }
   return out;
 }

@@ -18,6 +18,7 @@
 namespace retreat::agent {
 namespace {
 
+using testing::clock_frame;
 using testing::expect_same_state;
 using testing::short_window_params;
 
@@ -26,16 +27,6 @@ using testing::short_window_params;
 constexpr FrameClock kinetic_clock{1, 0.03};
 constexpr FrameClock physical_clock{3, 0.01};
 
-Observation frame(const FrameClock& clock, std::int64_t tick, std::uint32_t onsets,
-                  RobotPhase phase = RobotPhase::inside) {
-  Observation f;
-  f.tick = tick;
-  f.time = clock.time(tick);
-  f.phase = phase;
-  f.in_contact = onsets > 0;
-  f.new_onsets = onsets;
-  return f;
-}
 
 /// Outcomes seen over a controller's runs: the test is only meaningful if plans both ended in a
 /// retreat and reached their horizon, and if some were voided by an onset.
@@ -68,7 +59,7 @@ void run_with_plans(const std::string& controller, const FrameClock& clock, std:
   };
 
   const auto waiting = static_cast<std::int64_t>(rng.uniform(0.0, 20.0));
-  for (; tick < waiting; ++tick) feed(frame(clock, tick, 0, RobotPhase::waiting));
+  for (; tick < waiting; ++tick) feed(clock_frame(clock, tick, 0, RobotPhase::waiting));
 
   constexpr double onset_rates[] = {0.0, 0.02, 0.1, 0.3};  // chance of an onset per frame
   double rate = onset_rates[0];
@@ -87,7 +78,7 @@ void run_with_plans(const std::string& controller, const FrameClock& clock, std:
           voided = true;
           break;
         }
-        const FrameResult r = feed(frame(clock, tick, 0));
+        const FrameResult r = feed(clock_frame(clock, tick, 0));
         const bool retreat_here = plan.retreat_tick == tick;
         ASSERT_EQ(r.retreat_now, retreat_here) << controller << " seed " << seed << " tick " << tick;
         if (tick == plan.through_tick) (retreat_here ? seen.retreat_planned : seen.stayed_through)++;
@@ -95,12 +86,12 @@ void run_with_plans(const std::string& controller, const FrameClock& clock, std:
       if (voided) {
         // An onset: the plan is void from this tick on; the frame is handled as any other.
         ++seen.voided;
-        feed(frame(clock, tick, 1));
+        feed(clock_frame(clock, tick, 1));
         ++tick;
       }
       continue;
     }
-    feed(frame(clock, tick, rng.uniform() < rate ? 1 : 0));
+    feed(clock_frame(clock, tick, rng.uniform() < rate ? 1 : 0));
     ++tick;
   }
 }
@@ -130,11 +121,11 @@ INSTANTIATE_TEST_SUITE_P(Registered, PlanPerController, ::testing::ValuesIn(cont
 
 TEST(RetreatAgentPlan, AWaitingOrStoppedAgentStaysThroughTheHorizon) {
   RetreatAgent agent(0, {}, short_window_params(50.0));
-  agent.on_frame(frame(kinetic_clock, 0, 0, RobotPhase::waiting));
+  agent.on_frame(clock_frame(kinetic_clock, 0, 0, RobotPhase::waiting));
   const Plan waiting = agent.plan(kinetic_clock, 1000);
   EXPECT_EQ(waiting.through_tick, 1000);
   EXPECT_FALSE(waiting.retreat_tick);
-  agent.on_frame(frame(kinetic_clock, 1, 0, RobotPhase::departed));
+  agent.on_frame(clock_frame(kinetic_clock, 1, 0, RobotPhase::departed));
   const Plan departed = agent.plan(kinetic_clock, 5);
   EXPECT_EQ(departed.through_tick, 6);
   EXPECT_FALSE(departed.retreat_tick);
@@ -143,9 +134,9 @@ TEST(RetreatAgentPlan, AWaitingOrStoppedAgentStaysThroughTheHorizon) {
 TEST(RetreatAgentPlan, ACertainRetreatIsPlannedAtItsFirstDecisionStep) {
   // p = 1 from 0.3 s inside: entry at tick 2 (kinetic clock), first coin at step 10, tick 12.
   RetreatAgent agent(0, {}, short_window_params(), std::make_unique<testing::FixedProbabilityFrom>(1.0, 0.3));
-  agent.on_frame(frame(kinetic_clock, 0, 0, RobotPhase::waiting));
-  agent.on_frame(frame(kinetic_clock, 1, 0, RobotPhase::waiting));
-  agent.on_frame(frame(kinetic_clock, 2, 0));
+  agent.on_frame(clock_frame(kinetic_clock, 0, 0, RobotPhase::waiting));
+  agent.on_frame(clock_frame(kinetic_clock, 1, 0, RobotPhase::waiting));
+  agent.on_frame(clock_frame(kinetic_clock, 2, 0));
   const Plan plan = agent.plan(kinetic_clock, 100);
   EXPECT_EQ(plan.retreat_tick, 12);
   EXPECT_EQ(plan.through_tick, 12);
@@ -156,7 +147,7 @@ TEST(RetreatAgentPlan, ACertainRetreatIsPlannedAtItsFirstDecisionStep) {
 TEST(RetreatAgentPlan, RefusesToPlanWithoutAFrameABadHorizonOrAClockThatGoesBack) {
   RetreatAgent agent(0, {}, short_window_params());
   EXPECT_THROW(agent.plan(kinetic_clock, 10), std::logic_error);
-  agent.on_frame(frame(kinetic_clock, 100, 0));  // t = 3 s
+  agent.on_frame(clock_frame(kinetic_clock, 100, 0));  // t = 3 s
   EXPECT_THROW(agent.plan(kinetic_clock, 0), std::invalid_argument);
   EXPECT_THROW(agent.plan({0, 0.03}, 10), std::invalid_argument);
   EXPECT_THROW(agent.plan({1, -0.03}, 10), std::invalid_argument);
@@ -174,17 +165,17 @@ TEST(RetreatAgentCopy, GoesOnAloneWithItsOwnControllerState) {
   AgentParams params = short_window_params(5.0);
   params.controller = "influx-aware";
   RetreatAgent original(0, {}, params, nullptr, 7);
-  for (std::int64_t tick = 0; tick < 150; ++tick) original.on_frame(frame(kinetic_clock, tick, 0));
+  for (std::int64_t tick = 0; tick < 150; ++tick) original.on_frame(clock_frame(kinetic_clock, tick, 0));
   ASSERT_TRUE(original.status().deciding);
   RetreatAgent copy(original);
   RetreatAgent reference(original);
   std::int64_t tick = 150;
-  for (; tick < 1000 && !copy.stopped(); ++tick) copy.on_frame(frame(kinetic_clock, tick, 1));
+  for (; tick < 1000 && !copy.stopped(); ++tick) copy.on_frame(clock_frame(kinetic_clock, tick, 1));
   EXPECT_GT(copy.status().steps, original.status().steps);
   expect_same_state(original.status(), reference.status());
   // Had the copy stepped the original's controller, the two would now part.
   for (std::int64_t t = 150; t < 600 && !original.stopped(); ++t) {
-    const Observation f = frame(kinetic_clock, t, t % 50 == 0);
+    const Observation f = clock_frame(kinetic_clock, t, t % 50 == 0);
     EXPECT_EQ(original.on_frame(f).retreat_now, reference.on_frame(f).retreat_now);
     expect_same_state(original.status(), reference.status());
   }

@@ -23,6 +23,8 @@ struct ControllerInput {
   double L;                         ///< window length L [s]
   double dt;                        ///< decision period dt [s]
   double lambda_hat;                ///< λ̂ = y_iL / (4δ(4/π)vL) [robots/m²]
+  double lambda_star;               ///< λ* = model::lambda_star(model) [robots/m²], the same
+                                    ///< at every step (the agent computes it once)
   const model::ModelParams& model;  ///< the model's parameters (λ_p, λ_d, C, δ, v, ρ)
   const AgentParams& agent;         ///< the agent's parameters (L, dt, K_p, λ_in)
   const OnsetWindow& window;        ///< the robot's own onset history (see OnsetWindow::entries)

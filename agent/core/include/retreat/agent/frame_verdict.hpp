@@ -39,6 +39,10 @@ class FrameCounts {
   std::uint64_t dropped() const noexcept;
   /// Counts one frame with @p verdict.
   void count(FrameVerdict verdict) noexcept { ++counts_[static_cast<std::size_t>(verdict)]; }
+  /// Counts @p frames frames with @p verdict.
+  void count(FrameVerdict verdict, std::uint64_t frames) noexcept {
+    counts_[static_cast<std::size_t>(verdict)] += frames;
+  }
 
   bool operator==(const FrameCounts& other) const noexcept { return counts_ == other.counts_; }
   bool operator!=(const FrameCounts& other) const noexcept { return !(*this == other); }

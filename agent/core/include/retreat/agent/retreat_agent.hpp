@@ -146,6 +146,21 @@ class RetreatAgent {
   ///         puts a covered frame before the last accepted frame's time.
   Plan plan(const FrameClock& clock, std::int64_t horizon) const;
 
+  /// The last of the quiet frames last+1 .. @p through (on @p clock's times, with @p phase and
+  /// no new onsets; last: the last accepted frame's tick) that take_quiet_frames takes at once:
+  /// up to the frame before the first that would take a decision step, or would be refused, or
+  /// is the first `inside` frame (entry). The last accepted tick if none; @p through if all.
+  /// @throws std::logic_error before any accepted frame.
+  /// @throws std::invalid_argument if @p clock is not a valid clock.
+  std::int64_t quiet_through(const FrameClock& clock, RobotPhase phase, std::int64_t through) const;
+
+  /// Takes the quiet frames last+1 .. quiet_through(@p clock, @p phase, @p through) in one go,
+  /// leaving the agent exactly as on_frame would, frame by frame (the same counts, steps and
+  /// last frame; no such frame decides anything). Costs O(log n), not n frames: while nothing
+  /// reaches a robot before its first decision step (L inside for `paper`), or while it waits
+  /// or has stopped, its covered frames need no stepping. Returns the last tick taken.
+  std::int64_t take_quiet_frames(const FrameClock& clock, RobotPhase phase, std::int64_t through);
+
   /// Whether the agent has decided to retreat (sticky).
   bool retreating() const noexcept { return decided_; }
   /// Whether the agent takes no more steps.
@@ -173,6 +188,9 @@ class RetreatAgent {
   OnsetWindow window_;
   double tolerance_;  // 1e-9·dt [s]
   double first_decision_;  // the controller's first_decision_after [s] (L for `paper`)
+  double lambda_star_;  // model::lambda_star(model_), for every ControllerInput
+  double mle_divisor_;  // model::mle_divisor(δ, v, L): λ̂ = y / it
+  std::uint64_t first_decision_step_ = 1;  // the first k whose step decides (k·dt + 1e-9·dt >= first_decision_)
 
   FrameCounts frames_;
   std::optional<std::int64_t> last_tick_;

@@ -16,4 +16,13 @@ namespace retreat::model {
 // NOLINTNEXTLINE(readability-identifier-naming): L is the paper's symbol.
 double mle_density(std::uint64_t onsets, double delta, double v, double L);
 
+/// mle_density's divisor, 4 δ (4/π) v L [m²·s/s]: mle_density(y, δ, v, L) is y divided by it,
+/// bit for bit, so that an agent deciding every step computes it once.
+// NOLINTNEXTLINE(readability-identifier-naming): L is the paper's symbol.
+double mle_divisor(double delta, double v, double L);
+
+/// The same estimate with its divisor computed once: mle_density(y, δ, v, L) is
+/// mle_density(y, mle_divisor(δ, v, L)).
+inline double mle_density(std::uint64_t onsets, double divisor) { return static_cast<double>(onsets) / divisor; }
+
 }  // namespace retreat::model

@@ -78,6 +78,11 @@ class AgentNode {
   /// Acts on a journalled frame again, publishing nothing.
   void recover(const wire::ProximityFrame& frame);
   void publish_status(std::int64_t tick, double time);
+  /// The status period a frame at @p time falls in: a status is published when it changes.
+  std::int64_t status_slot(double time) const;
+  /// The last frame tick in @p from .. @p to (on the frame clock) in the last status's period;
+  /// from − 1 if @p from starts another.
+  std::int64_t last_of_status_slot(std::int64_t from, std::int64_t to) const;
   /// Notices a new arena incarnation: a participant not seen before reading our decisions.
   void watch_decision_readers();
   /// Whether run.recorders recorders are in discovery and each is matched with every writer of
