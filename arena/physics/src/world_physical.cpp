@@ -125,7 +125,7 @@ void PhysicalWorld::step_physics() {
     Body& body = bodies_[id];
     if (stats_[id].phase == Phase::retreating || body.external) {
       // A real robot leaves by its own motion, told to or not.
-      if (domain_.signed_distance(body.pose.position) >= params_.robot_radius) {
+      if (boundary_at(body, body.pose.position).signed_distance >= params_.robot_radius) {
         tracker_.update(id, {}, time_);  // ends its contacts (the partners see it gone too)
         depart(id, time_);
         departed = true;
@@ -180,6 +180,17 @@ bool PhysicalWorld::try_enter(RobotId id) {
     return true;
   }
   return false;
+}
+
+const BoundaryPoint& PhysicalWorld::boundary_at(Body& body, const Vec2& p) const {
+  const auto x = std::bit_cast<std::uint64_t>(p.x());
+  const auto y = std::bit_cast<std::uint64_t>(p.y());
+  if (x != body.boundary_x_bits || y != body.boundary_y_bits) {
+    body.boundary = domain_.nearest_boundary_point(p);
+    body.boundary_x_bits = x;
+    body.boundary_y_bits = y;
+  }
+  return body.boundary;
 }
 
 void PhysicalWorld::sense(bool initial) {
@@ -256,7 +267,7 @@ void PhysicalWorld::sense(bool initial) {
     // Desired velocity of the projected point.
     Vec2 u_hat;
     if (stats.phase == Phase::retreating) {
-      u_hat = params_.v * domain_.nearest_boundary_point(self.p).outward_normal;
+      u_hat = params_.v * boundary_at(body, self.p).outward_normal;
     } else if (body.entering) {
       u_hat = params_.v * body.entry_direction;
     } else {

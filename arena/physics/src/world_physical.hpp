@@ -52,9 +52,17 @@ class PhysicalWorld final : public WorldBase {
     /// motion reuses it while θ has not changed since (poses set in between are recomputed).
     Vec2 heading = Vec2::UnitX();
     std::uint64_t heading_theta_bits = ~std::uint64_t{0};  // a NaN's bits: no θ matches
+    /// The last nearest boundary point computed for this robot's position, and that position's
+    /// bits (boundary_at): a retreating robot's departure test and its next sensing ask about
+    /// the same position, and each answer costs an ellipse's root.
+    BoundaryPoint boundary;
+    std::uint64_t boundary_x_bits = ~std::uint64_t{0};  // a NaN's bits: no position matches
+    std::uint64_t boundary_y_bits = ~std::uint64_t{0};
   };
 
   bool is_external_in_d(RobotId id) const;
+  /// domain_.nearest_boundary_point(@p p) for @p body's position @p p, computed once per position.
+  const BoundaryPoint& boundary_at(Body& body, const Vec2& p) const;
 
   void on_robot_created(RobotId id) override;
   void on_retreat(RobotId id) override;
