@@ -224,15 +224,7 @@ std::int64_t AgentNode::status_slot(double time) const {
 std::int64_t AgentNode::last_of_status_slot(std::int64_t from, std::int64_t to) const {
   // Frame times never go back on the clock, nor do their slots: a bisection finds the last.
   const auto same = [&](std::int64_t t) { return status_slot(clock_.time(t)) == last_status_slot_; };
-  if (!same(from)) return from - 1;
-  if (same(to)) return to;
-  std::int64_t lo = from;
-  std::int64_t hi = to;
-  while (hi - lo > 1) {
-    const std::int64_t mid = lo + (hi - lo) / 2;
-    (same(mid) ? lo : hi) = mid;
-  }
-  return lo;
+  return last_tick_where(from, to, same);
 }
 
 void AgentNode::after_frame(const wire::ProximityFrame& frame, const FrameResult& result) {

@@ -40,14 +40,24 @@ constexpr double exact_integers = 0x1p52;
 /// The first step k >= 1 that decides, as take_due_steps tests it (a step with
 /// k·dt + tolerance < first_decision does not). 1 if k is too large to find exactly: a step
 /// taken for a deciding one only ends a quiet stretch early, which is always safe.
+/// The first step k >= @p lower at which @p holds (a condition false up to some step and true
+/// from it on), searched from @p estimate (used if above @p lower and exact as an integer).
+template <typename Condition>
+std::uint64_t first_step_where(std::uint64_t lower, double estimate, Condition holds) {
+  std::uint64_t k = lower;
+  if (estimate > static_cast<double>(lower) && estimate < exact_integers) {
+    k = static_cast<std::uint64_t>(estimate);
+  }
+  while (k > lower && holds(k - 1)) --k;
+  while (!holds(k)) ++k;
+  return k;
+}
+
 std::uint64_t first_deciding_step(double first_decision, double dt, double tolerance) {
   const auto decides = [&](std::uint64_t k) { return !(static_cast<double>(k) * dt + tolerance < first_decision); };
   const double estimate = std::ceil((first_decision - tolerance) / dt);
   if (!(estimate < exact_integers)) return 1;
-  std::uint64_t k = estimate > 1.0 ? static_cast<std::uint64_t>(estimate) : 1;
-  while (k > 1 && decides(k - 1)) --k;
-  while (!decides(k)) ++k;
-  return k;
+  return first_step_where(1, estimate, decides);
 }
 
 }  // namespace
@@ -136,19 +146,8 @@ std::int64_t RetreatAgent::quiet_through(const FrameClock& clock, RobotPhase pha
   const std::uint64_t k = std::max(next_step_, first_decision_step_);
   const double decisive = *entry_time_ + static_cast<double>(k) * agent_.dt;
   const auto quiet = [&](std::int64_t tick) { return decisive > clock.time(tick) + tolerance_; };
-  if (!quiet(last + 1)) {
-    return last;  // the next frame decides (every frame does, once the agent decides)
-  }
-  if (quiet(through)) {
-    return through;
-  }
-  std::int64_t lo = last + 1;  // quiet
-  std::int64_t hi = through;  // takes the deciding step
-  while (hi - lo > 1) {
-    const std::int64_t mid = lo + (hi - lo) / 2;
-    (quiet(mid) ? lo : hi) = mid;
-  }
-  return lo;
+  // Once the agent decides, every frame does: then the first test answers (last).
+  return last_tick_where(last + 1, through, quiet);
 }
 
 std::int64_t RetreatAgent::take_quiet_frames(const FrameClock& clock, RobotPhase phase, std::int64_t through) {
@@ -166,17 +165,10 @@ std::int64_t RetreatAgent::take_quiet_frames(const FrameClock& clock, RobotPhase
     // What take_due_steps does with these frames: every step due by the last one is taken, and
     // none of them decides (quiet_through), so only k moves on, to the first step not yet due.
     const double entry = *entry_time_;
-    const auto due = [&](std::uint64_t k) {
-      return !(entry + static_cast<double>(k) * agent_.dt > last_time_ + tolerance_);
+    const auto not_due = [&](std::uint64_t k) {
+      return entry + static_cast<double>(k) * agent_.dt > last_time_ + tolerance_;
     };
-    std::uint64_t k = next_step_;
-    const double estimate = std::floor((last_time_ + tolerance_ - entry) / agent_.dt);
-    if (estimate > static_cast<double>(k) && estimate < exact_integers) {
-      k = static_cast<std::uint64_t>(estimate);
-    }
-    while (k > next_step_ && !due(k - 1)) --k;
-    while (due(k)) ++k;
-    next_step_ = k;
+    next_step_ = first_step_where(next_step_, std::floor((last_time_ + tolerance_ - entry) / agent_.dt), not_due);
   }
   return to;
 }

@@ -35,6 +35,22 @@ struct FrameClock {
   double time(std::int64_t tick) const noexcept { return static_cast<double>(tick * multiplier) * period; }
 };
 
+/// The last tick in @p from .. @p to at which @p holds, for a condition that holds up to some tick
+/// and never after it (as a threshold on the times of frames on a FrameClock does); @p from − 1 if
+/// it does not hold at @p from. A bisection: O(log(to − from)) evaluations.
+template <typename Condition>
+std::int64_t last_tick_where(std::int64_t from, std::int64_t to, Condition holds) {
+  if (!holds(from)) return from - 1;
+  if (holds(to)) return to;
+  std::int64_t lo = from;  // holds
+  std::int64_t hi = to;    // does not
+  while (hi - lo > 1) {
+    const std::int64_t mid = lo + (hi - lo) / 2;
+    (holds(mid) ? lo : hi) = mid;
+  }
+  return lo;
+}
+
 /// An owned controller whose copies are clones (Controller::clone), so that an agent (and a
 /// look-ahead copy of it) copies with the defaults: the copies go on alone.
 class ControllerCopy {
