@@ -150,8 +150,8 @@ int main(int argc, char** argv) {
         a.node = std::make_unique<agent::AgentNode>(s, script.robot, *a.transport);
       }
     } else if (cl.spawn_agents) {
-      char pattern[] = "/tmp/retreat-replay-XXXXXX";
-      if (::mkdtemp(pattern) == nullptr) throw std::runtime_error("cannot create a directory in /tmp");
+      std::string pattern = (std::filesystem::temp_directory_path() / "retreat-replay-XXXXXX").string();
+      if (::mkdtemp(pattern.data()) == nullptr) throw std::runtime_error("cannot create a directory like " + pattern);
       work = pattern;
       const auto scenario_file = (*work / "scenario.yaml").string();
       std::ofstream(scenario_file) << scenario::dump(s);

@@ -23,13 +23,14 @@ using namespace std::chrono_literals;
 using nlohmann::json;
 using testing::ChildProcess;
 
-const std::string tmp = ::testing::TempDir();
+// Read when a test runs: main() points TMPDIR at the process's scratch directory.
+std::string tmp_dir() { return ::testing::TempDir(); }
 
 /// A small, fast swarm: 4 robots at λ = 1.33 robots/m² in the kinetic world, L = 10 s, K_p =
 /// 0.1 so that robots do retreat within a minute (λ̂ is noisy and often above λ* = 1.51).
 std::string small_scenario(double duration = 60) {
   // One file per test: ctest runs the tests of this file in parallel processes.
-  const std::string path = tmp + "/arena_small_" +
+  const std::string path = tmp_dir() + "/arena_small_" +
                            ::testing::UnitTest::GetInstance()->current_test_info()->name() + "_" +
                            std::to_string(static_cast<int>(duration)) + ".yaml";
   std::ofstream(path) << "name: arena-small\nseed: 11\n"
@@ -81,12 +82,12 @@ TEST(ArenaProgram, ARunOverEitherVendorOrMixedGivesTheSameTrajectory) {
   const auto scenario = small_scenario();
   const std::vector<std::string> all_fast(4, "fastdds"), all_cyclone(4, "cyclonedds");
   const std::vector<std::string> mixed = {"fastdds", "cyclonedds", "fastdds", "cyclonedds"};
-  auto a = start(scenario, "fastdds", all_fast, testing::domains::robot_link_fastdds.at(0), tmp + "/run_fast");
-  auto ja = finish(a, tmp + "/run_fast");
-  auto b = start(scenario, "cyclonedds", all_cyclone, testing::domains::robot_link_fastdds.at(1), tmp + "/run_cyclone");
-  auto jb = finish(b, tmp + "/run_cyclone");
-  auto c = start(scenario, "cyclonedds", mixed, testing::domains::robot_link_fastdds.at(2), tmp + "/run_mixed");
-  auto jc = finish(c, tmp + "/run_mixed");
+  auto a = start(scenario, "fastdds", all_fast, testing::domains::robot_link_fastdds.at(0), tmp_dir() + "/run_fast");
+  auto ja = finish(a, tmp_dir() + "/run_fast");
+  auto b = start(scenario, "cyclonedds", all_cyclone, testing::domains::robot_link_fastdds.at(1), tmp_dir() + "/run_cyclone");
+  auto jb = finish(b, tmp_dir() + "/run_cyclone");
+  auto c = start(scenario, "cyclonedds", mixed, testing::domains::robot_link_fastdds.at(2), tmp_dir() + "/run_mixed");
+  auto jc = finish(c, tmp_dir() + "/run_mixed");
   ASSERT_FALSE(ja.empty() || jb.empty() || jc.empty());
   EXPECT_EQ(ja["ticks"], 2000);
   EXPECT_EQ(ja["agents"]["started"], 4);
@@ -95,10 +96,10 @@ TEST(ArenaProgram, ARunOverEitherVendorOrMixedGivesTheSameTrajectory) {
   EXPECT_EQ(ja["trajectory_sha256"], jb["trajectory_sha256"]);
   EXPECT_EQ(ja["trajectory_sha256"], jc["trajectory_sha256"]);
   for (const char* f : {"scenario.yaml", "telemetry.csv", "agents.csv", "summary.json"}) {
-    EXPECT_TRUE(std::filesystem::exists(tmp + "/run_fast/" + f)) << f;
+    EXPECT_TRUE(std::filesystem::exists(tmp_dir() + "/run_fast/" + f)) << f;
   }
   // telemetry.csv: a header and one row per tick.
-  std::ifstream telemetry(tmp + "/run_fast/telemetry.csv");
+  std::ifstream telemetry(tmp_dir() + "/run_fast/telemetry.csv");
   const auto rows = std::count(std::istreambuf_iterator<char>(telemetry), {}, '\n');
   EXPECT_EQ(rows, 1 + 2000);
 }
@@ -107,10 +108,10 @@ TEST(ArenaProgram, ADifferentSeedGivesADifferentTrajectory) {
   const std::string vendor = built("cyclonedds") ? "cyclonedds" : "fastdds";
   const auto scenario = small_scenario();
   const std::vector<std::string> agents(4, vendor);
-  auto a = start(scenario, vendor, agents, testing::domains::robot_link_fastdds.at(3), tmp + "/run_seed11");
-  auto ja = finish(a, tmp + "/run_seed11");
-  auto b = start(scenario, vendor, agents, testing::domains::robot_link_fastdds.at(4), tmp + "/run_seed12", {"--set", "seed=12"});
-  auto jb = finish(b, tmp + "/run_seed12");
+  auto a = start(scenario, vendor, agents, testing::domains::robot_link_fastdds.at(3), tmp_dir() + "/run_seed11");
+  auto ja = finish(a, tmp_dir() + "/run_seed11");
+  auto b = start(scenario, vendor, agents, testing::domains::robot_link_fastdds.at(4), tmp_dir() + "/run_seed12", {"--set", "seed=12"});
+  auto jb = finish(b, tmp_dir() + "/run_seed12");
   ASSERT_FALSE(ja.empty() || jb.empty());
   // Both runs had decisions to tell apart (otherwise the hashes could only differ by chance).
   EXPECT_GT(ja["agents"]["retreated"].get<int>() + jb["agents"]["retreated"].get<int>(), 0);
@@ -123,12 +124,12 @@ TEST(ArenaProgram, AKilledAgentIsDeclaredLostAndTheRunCompletes) {
   // agent in the middle.
   const auto scenario = small_scenario(1000);
   // K_p = λ_in = 0: ε ≡ 0, no robot ever retreats, so the killed agent's robot is still inside.
-  auto s = start(scenario, vendor, std::vector<std::string>(4, vendor), testing::domains::mixed_swarm.at(0), tmp + "/run_kill",
+  auto s = start(scenario, vendor, std::vector<std::string>(4, vendor), testing::domains::mixed_swarm.at(0), tmp_dir() + "/run_kill",
                  {"--set", "agent.K_p=0", "--set", "agent.lambda_in=0"});
   std::this_thread::sleep_for(1500ms);
   ASSERT_TRUE(s.arena->running());
   s.agents[1].signal(SIGKILL);
-  const auto j = finish(s, tmp + "/run_kill");
+  const auto j = finish(s, tmp_dir() + "/run_kill");
   ASSERT_FALSE(j.empty());
   EXPECT_EQ(j["agents"]["started"], 4);
   EXPECT_EQ(j["agents"]["lost"], 1);
@@ -144,19 +145,19 @@ TEST(ArenaProgram, AnAgentThatIsSlowButStillThereIsWaitedForNotLost) {
   const auto scenario = small_scenario(1000);
   // K_p = λ_in = 0: nobody retreats, so robot 0's agent is still answering when it is stopped.
   auto s = start(scenario, vendor, std::vector<std::string>(4, vendor), testing::domains::mixed_swarm.at(1),
-                 tmp + "/run_slow", {"--set", "agent.K_p=0", "--set", "agent.lambda_in=0", "--set", "run.agent_timeout=1"});
+                 tmp_dir() + "/run_slow", {"--set", "agent.K_p=0", "--set", "agent.lambda_in=0", "--set", "run.agent_timeout=1"});
   std::this_thread::sleep_for(1500ms);
   ASSERT_TRUE(s.arena->running());
   s.agents[0].signal(SIGSTOP);
   std::this_thread::sleep_for(4s);
   s.agents[0].signal(SIGCONT);
-  const auto j = finish(s, tmp + "/run_slow");
+  const auto j = finish(s, tmp_dir() + "/run_slow");
   ASSERT_FALSE(j.empty());
   EXPECT_EQ(j["agents"]["started"], 4);
   EXPECT_EQ(j["agents"]["lost"], 0);
   EXPECT_GE(j["slow_answers"].get<std::uint64_t>(), 1u);
   EXPECT_EQ(j["ticks"], 33334);
-  EXPECT_NE(testing::read_file(tmp + "/run_slow_arena.log").find("is still matched: waiting up to run.agent_hang_timeout"),
+  EXPECT_NE(testing::read_file(tmp_dir() + "/run_slow_arena.log").find("is still matched: waiting up to run.agent_hang_timeout"),
             std::string::npos);
 }
 
@@ -164,9 +165,9 @@ TEST(ArenaProgram, ARealTimeRunPacesTicksByTheClockAndCompletes) {
   const std::string vendor = built("cyclonedds") ? "cyclonedds" : "fastdds";
   // 30 simulated seconds at 20x: 1,000 ticks in about 1.5 wall seconds.
   const auto scenario = small_scenario(30);
-  auto s = start(scenario, vendor, std::vector<std::string>(4, vendor), testing::domains::mixed_swarm.at(2), tmp + "/run_realtime",
+  auto s = start(scenario, vendor, std::vector<std::string>(4, vendor), testing::domains::mixed_swarm.at(2), tmp_dir() + "/run_realtime",
                  {"--set", "run.mode=realtime", "--set", "run.speed=20"});
-  const auto j = finish(s, tmp + "/run_realtime");
+  const auto j = finish(s, tmp_dir() + "/run_realtime");
   ASSERT_FALSE(j.empty());
   EXPECT_EQ(j["mode"], "realtime");
   EXPECT_EQ(j["ticks"], 1000);
@@ -179,7 +180,7 @@ TEST(ArenaProgram, DecisionsForUnknownRobotsOrPastTicksAreDroppedAndCounted) {
   const std::string vendor = built("cyclonedds") ? "cyclonedds" : "fastdds";
   const auto scenario = small_scenario(1000);
   const int domain = testing::domains::arena_program.at(0);
-  auto s = start(scenario, vendor, std::vector<std::string>(4, vendor), domain, tmp + "/run_rogue");
+  auto s = start(scenario, vendor, std::vector<std::string>(4, vendor), domain, tmp_dir() + "/run_rogue");
   // A rogue participant writes on robot 0's decision topic: a robot id that is not the topic's,
   // and a decision for a tick long past.
   auto rogue = transport::make_transport(vendor, {domain, "rogue", "", ""});
@@ -191,7 +192,7 @@ TEST(ArenaProgram, DecisionsForUnknownRobotsOrPastTicksAreDroppedAndCounted) {
     writer.write({0, 0, 0.0, true});    // tick 0, long past
   }
   writer.wait_for_acknowledgments(retreat::testing::hang_ceiling);
-  const auto j = finish(s, tmp + "/run_rogue");
+  const auto j = finish(s, tmp_dir() + "/run_rogue");
   ASSERT_FALSE(j.empty());
   EXPECT_GE(j["decisions_dropped"].get<int>(), 10);
   EXPECT_EQ(j["agents"]["lost"], 0);
@@ -219,7 +220,7 @@ TEST(ArenaProgramBadInput, EachBadValueGivesOneLineNamingItAndExitCodeTwo) {
       argv.push_back("--set");
       argv.push_back(s);
     }
-    const std::string log = tmp + "/arena_bad.log";
+    const std::string log = tmp_dir() + "/arena_bad.log";
     const auto [code, text] = testing::run_to_exit(argv, log);
     EXPECT_EQ(code, 2) << c.expected;
     EXPECT_NE(text.find(c.expected), std::string::npos) << "expected '" << c.expected << "' in: " << text;

@@ -6,12 +6,14 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
 #include <functional>
 #include <sstream>
 #include <stdexcept>
+#include <string_view>
 #include <thread>
 
 #include "retreat/testing/domains.hpp"  // its static_assert checks every suite's block in every build
@@ -25,8 +27,19 @@ ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::stri
   std::vector<char*> args;
   for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
+  // extra_env replaces a variable of the same name: glibc's getenv returns the first match.
+  const auto overridden = [&](std::string_view entry) {
+    const auto equals = entry.find('=');
+    if (equals == std::string_view::npos) return false;
+    const auto name = entry.substr(0, equals + 1);
+    return std::any_of(extra_env.begin(), extra_env.end(), [&](const std::string& e) {
+      return std::string_view(e).substr(0, name.size()) == name;
+    });
+  };
   std::vector<std::string> env_storage;
-  for (char** e = environ; *e != nullptr; ++e) env_storage.emplace_back(*e);
+  for (char** e = environ; *e != nullptr; ++e) {
+    if (!overridden(*e)) env_storage.emplace_back(*e);
+  }
   for (const auto& e : extra_env) env_storage.push_back(e);
   std::vector<char*> env;
   for (auto& e : env_storage) env.push_back(e.data());

@@ -22,6 +22,7 @@ inline constexpr std::chrono::seconds hang_ceiling{300};
 class ChildProcess {
  public:
   /// Starts `argv[0]` with the given arguments; stdout and stderr go to `log_path` when given.
+  /// `extra_env` entries (NAME=value) add to the caller's environment or replace a variable of it.
   ChildProcess(const std::vector<std::string>& argv, const std::string& log_path = {},
                const std::vector<std::string>& extra_env = {});
   ~ChildProcess();
