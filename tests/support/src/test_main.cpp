@@ -15,6 +15,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cerrno>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -26,58 +27,54 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class ScratchDirectory {
- public:
-  /// Creates the directory under the caller's temporary directory and points TMPDIR and
-  /// TEST_TMPDIR at it; an empty path, and one line on stderr, when it cannot.
-  static fs::path create() {
-    std::error_code error;
-    const fs::path parent = fs::temp_directory_path(error);
-    if (error) {
-      std::cerr << "retreat tests: no temporary directory (TMPDIR=" << env_or_unset("TMPDIR")
-                << "): " << error.message() << '\n';
-      return {};
-    }
-    std::string pattern = (parent / "retreat-test.XXXXXX").string();
-    if (::mkdtemp(pattern.data()) == nullptr) {
-      std::cerr << "retreat tests: cannot create a directory like " << pattern << ": "
-                << std::strerror(errno) << '\n';
-      return {};
-    }
-    ::setenv("TMPDIR", pattern.c_str(), 1);
-    ::setenv("TEST_TMPDIR", pattern.c_str(), 1);
-    return pattern;
-  }
+std::string env_or_unset(const char* name) {
+  const char* value = std::getenv(name);
+  return value == nullptr ? "(unset)" : value;
+}
 
-  /// Removes the directory when the tests passed; keeps it, and says where, when one failed.
-  static void finish(const fs::path& directory, bool passed) {
-    if (!passed) {
-      std::cerr << "retreat tests: the files of the failed test are kept in " << directory.string()
-                << '\n';
-      return;
-    }
-    std::error_code error;
-    fs::remove_all(directory, error);
-    if (error) {
-      std::cerr << "retreat tests: could not remove " << directory.string() << ": "
-                << error.message() << '\n';
-    }
+/// Creates the scratch directory under the caller's temporary directory and points TMPDIR and
+/// TEST_TMPDIR at it; an empty path, and one line on stderr, when it cannot.
+fs::path create_scratch_directory() {
+  std::error_code error;
+  const fs::path parent = fs::temp_directory_path(error);
+  if (error) {
+    std::cerr << "retreat tests: no temporary directory (TMPDIR=" << env_or_unset("TMPDIR")
+              << "): " << error.message() << '\n';
+    return {};
   }
+  std::string pattern = (parent / "retreat-test.XXXXXX").string();
+  if (::mkdtemp(pattern.data()) == nullptr) {
+    std::cerr << "retreat tests: cannot create a directory like " << pattern << ": "
+              << std::strerror(errno) << '\n';
+    return {};
+  }
+  ::setenv("TMPDIR", pattern.c_str(), 1);
+  ::setenv("TEST_TMPDIR", pattern.c_str(), 1);
+  return pattern;
+}
 
- private:
-  static std::string env_or_unset(const char* name) {
-    const char* value = std::getenv(name);
-    return value == nullptr ? "(unset)" : value;
+/// Removes the scratch directory when the tests passed; keeps it, and says where, when one failed.
+void finish_scratch_directory(const fs::path& directory, bool passed) {
+  if (!passed) {
+    std::cerr << "retreat tests: the files of the failed test are kept in " << directory.string()
+              << '\n';
+    return;
   }
-};
+  std::error_code error;
+  fs::remove_all(directory, error);
+  if (error) {
+    std::cerr << "retreat tests: could not remove " << directory.string() << ": " << error.message()
+              << '\n';
+  }
+}
 
 }  // namespace
 
 int main(int argc, char** argv) {
   ::testing::InitGoogleTest(&argc, argv);
-  const fs::path scratch = ScratchDirectory::create();
+  const fs::path scratch = create_scratch_directory();
   if (scratch.empty()) return 1;
   const int result = RUN_ALL_TESTS();
-  ScratchDirectory::finish(scratch, result == 0);
+  finish_scratch_directory(scratch, result == 0);
   return result;
 }
