@@ -34,9 +34,11 @@
 #                       whatever their topics: sharding divides that work by K (see
 #                       docs/benchmarks.md, "Discovery"). Times are those of the slowest hub,
 #                       memory is summed over the hubs.
-#   --node PATH         the retreat_dds_swarm_node program
-#                       (default: $RETREAT_BUILD_DIR/tests/integration/retreat_dds_swarm_node,
-#                       RETREAT_BUILD_DIR defaulting to ./build)
+#   --node PATH         the retreat_dds_swarm_node program, for hubs and agents alike
+#                       (default: $RETREAT_BUILD_DIR/tests/integration/retreat_dds_swarm_node for
+#                       hubs and, as retreat-launch starts retreat-agent-<vendor>, the node with
+#                       one vendor linked, retreat_dds_swarm_node_<vendor>, for agents when it is
+#                       built; RETREAT_BUILD_DIR defaulting to ./build)
 #   --out DIR           logs and summary (default: a new directory under /tmp)
 #
 # Output: key=value lines on stdout, also written to DIR/summary.txt. Exit code 0 when every
@@ -57,6 +59,7 @@ timeout_s=240
 idle_s=10
 out=""
 node="${RETREAT_BUILD_DIR:-$root/build}/tests/integration/retreat_dds_swarm_node"
+agent_node=""  # empty: $node, or the single-vendor node beside it (after the arguments)
 hub_profile=""
 agent_profile=""
 shards=1
@@ -73,7 +76,7 @@ while [ $# -gt 0 ]; do
     --timeout) timeout_s=${2:?}; shift 2 ;;
     --idle) idle_s=${2:?}; shift 2 ;;
     --out) out=${2:?}; shift 2 ;;
-    --node) node=${2:?}; shift 2 ;;
+    --node) node=${2:?}; agent_node=$node; shift 2 ;;
     --hub-profile) hub_profile=${2:?}; shift 2 ;;
     --agent-profile) agent_profile=${2:?}; shift 2 ;;
     --shards) shards=${2:?}; shift 2 ;;
@@ -98,6 +101,10 @@ if [ "$shards" -gt 1 ]; then
   [ $((agents % shards)) -eq 0 ] || die "--shards $shards: must divide --agents $agents"
 fi
 [ -x "$node" ] || die "--node '$node': not an executable (build the target retreat_dds_swarm_node)"
+if [ -z "$agent_node" ]; then
+  agent_node=$node
+  [ -x "${node}_$vendor" ] && agent_node=${node}_$vendor
+fi
 
 if [ -z "$hub_profile$agent_profile" ]; then
   case "$vendor/$profile" in
@@ -173,7 +180,7 @@ done
 first_start=$(now)
 agent_pids=()
 for ((i = 0; i < agents; i++)); do
-  RETREAT_HUB_PORT=$((7410 + 250 * domain + 4 * (i / per_shard))) "$node" --role agent --dds "$vendor" "${agent_args[@]}" --domain "$domain" --robot "$i" \
+  RETREAT_HUB_PORT=$((7410 + 250 * domain + 4 * (i / per_shard))) "$agent_node" --role agent --dds "$vendor" "${agent_args[@]}" --domain "$domain" --robot "$i" \
     --max-seconds "$life_s" > "$out/agent_$i.log" 2>&1 &
   pids+=("$!")
   agent_pids+=("$!")
@@ -251,6 +258,8 @@ vendor=$vendor
 profile=$profile
 hub_profile=${hub_profile:-built-in}
 agent_profile=${agent_profile:-built-in}
+hub_node=$node
+agent_node=$agent_node
 agents=$agents
 shards=$shards
 domain=$domain

@@ -197,7 +197,7 @@ std::optional<std::string> capacity_refusal(const Plan& plan, const scenario::Sc
              "with at most " + std::to_string(*limit.agents) +
              " (the arena announces its 2 endpoints per robot to every agent: 2N^2 announcements; "
              "docs/benchmarks.md, \"Discovery\"): run fewer agents per swarm, or try the Fast DDS "
-             "discovery-server profiles (measured up to 200)";
+             "discovery-server profiles (measured up to 500)";
     }
   }
   std::uint64_t threads = 0;

@@ -182,6 +182,10 @@ void plan_processes(const LaunchOptions& o, const std::string& self_dir, Plan& p
                        std::string(o.bin_dir.empty() ? "; use --bin-dir DIR" : " in --bin-dir") + ")");
     }
   }
+  for (const auto& name : transport::dds_vendors()) {
+    const auto single = plan.agent_exe + "-" + name;
+    if (executable(single)) plan.single_vendor_agent_exe[name] = single;
+  }
   if (!o.record.empty()) plan_recording(o, dir, plan);
   if (!o.no_bridge) {
     const auto bridge = dir + "/retreat-bridge";
@@ -194,6 +198,11 @@ void plan_processes(const LaunchOptions& o, const std::string& self_dir, Plan& p
 }
 
 }  // namespace
+
+const std::string& agent_program(const Plan& plan, const std::string& vendor) {
+  const auto it = plan.single_vendor_agent_exe.find(vendor);
+  return it != plan.single_vendor_agent_exe.end() ? it->second : plan.agent_exe;
+}
 
 std::string recording_path(const Plan& plan, std::uint64_t seed) {
   if (plan.options.record.empty()) return {};

@@ -40,6 +40,7 @@ constexpr std::uint32_t max_arena_restarts = 5;
 struct AgentProcess {
   std::uint32_t robot;
   std::string vendor;
+  std::string program;  ///< retreat-agent, or retreat-agent-<vendor> (agent_program)
   std::unique_ptr<ChildProcess> process;
   bool reported = false;  ///< its exit has been reported
 };
@@ -79,7 +80,7 @@ void write_processes(const std::string& dir, int domain, const ChildProcess& are
   j["agents"] = nlohmann::json::array();
   for (const auto& a : agents) {
     j["agents"].push_back({{"robot", a.robot}, {"pid", a.process->pid()}, {"vendor", a.vendor},
-                           {"log", a.process->log_path()}});
+                           {"program", a.program}, {"log", a.process->log_path()}});
   }
   j["bridge"] = bridge != nullptr ? nlohmann::json{{"pid", bridge->pid()}, {"log", bridge->log_path()}}
                                   : nlohmann::json(nullptr);
@@ -155,11 +156,12 @@ RunOutcome run_processes(const Plan& plan, std::uint64_t seed, const std::string
   };
   const auto start_agent = [&](std::uint32_t robot) {
     const auto vendor = plan.vendors.agent(robot);
+    const auto& program = agent_program(plan, vendor);
     auto p = std::make_unique<ChildProcess>(
         "retreat-agent robot " + std::to_string(robot),
-        with({plan.agent_exe, "--robot-id", std::to_string(robot), "--dds", vendor}),
+        with({program, "--robot-id", std::to_string(robot), "--dds", vendor}),
         dir + "/logs/agent_" + std::to_string(robot) + ".log");
-    agents.push_back({robot, vendor, std::move(p)});
+    agents.push_back({robot, vendor, program, std::move(p)});
     ++agent_vendors[vendor];
   };
 

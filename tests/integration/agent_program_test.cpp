@@ -281,5 +281,34 @@ TEST(AgentProgramBadInput, EachBadValueGivesOneLineNamingItAndExitCodeTwo) {
   }
 }
 
+#if defined(RETREAT_AGENT_FASTDDS_BIN) && defined(RETREAT_AGENT_CYCLONEDDS_BIN)
+// retreat-agent-fastdds and retreat-agent-cyclonedds (what retreat-launch starts when they are
+// beside retreat-agent) have one DDS vendor linked: the other vendor is bad input for them, one
+// line naming it and what this program allows. (That they serve a swarm, and interoperate with
+// the other vendor's program, is LaunchRuns' mixed run.)
+TEST(SingleVendorAgent, RefusesTheOtherVendorInOneLineNamingTheVendorsItHas) {
+  const std::string dir = ::testing::TempDir();
+  const std::string scenario = dir + "/single_vendor.yaml";
+  std::ofstream(scenario) << "name: single-vendor\n";
+  struct Case {
+    const char* program;
+    const char* own;
+    const char* other;
+  };
+  for (const auto& c : {Case{RETREAT_AGENT_FASTDDS_BIN, "fastdds", "cyclonedds"},
+                        Case{RETREAT_AGENT_CYCLONEDDS_BIN, "cyclonedds", "fastdds"}}) {
+    const auto [code, text] = testing::run_to_exit(
+        {c.program, "--robot-id", "0", "--scenario", scenario, "--dds", c.other, "--domain",
+         std::to_string(testing::domains::agent_program.at(0))},
+        dir + "/single_vendor_" + c.own + ".log");
+    EXPECT_EQ(code, 2) << c.program << ": " << text;
+    EXPECT_NE(text.find(std::string("'") + c.other + "'"), std::string::npos) << text;
+    EXPECT_NE(text.find(std::string("must be one of ") + c.own + ", inmemory"), std::string::npos)
+        << text;
+    EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 1) << "not one line: " << text;
+  }
+}
+#endif
+
 }  // namespace
 }  // namespace retreat

@@ -83,6 +83,10 @@ TEST(LaunchRuns, RobotariumGivesOneTrajectoryOverFastDdsCycloneDdsMixedAndInProc
   ASSERT_EQ(processes["agents"].size(), 12u);
   for (const auto& a : processes["agents"]) {
     EXPECT_EQ(a["vendor"], a["robot"].get<int>() % 2 == 0 ? "fastdds" : "cyclonedds");
+    // Each agent ran the program with only its own vendor linked (beside the launcher in this
+    // build): the two programs interoperate and give the trajectory above.
+    const auto program = a["program"].get<std::string>();
+    EXPECT_TRUE(program.ends_with("/retreat-agent-" + a["vendor"].get<std::string>())) << program;
   }
   // Every program's output went to its own log; every child is gone.
   for (int robot = 0; robot < 12; ++robot) {

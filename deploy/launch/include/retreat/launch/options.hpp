@@ -4,6 +4,7 @@
 /// Nothing here starts a process or writes a file.
 
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -59,10 +60,17 @@ struct Plan {
   bool endless = false;                ///< arena.queue = endless
   std::optional<int> domain;           ///< explicit domain (--domain or --set dds.domain=N)
   std::string arena_exe, agent_exe, bridge_exe;  ///< bridge_exe empty: none (or --no-bridge)
+  /// retreat-agent-<vendor>, the agent with one DDS vendor linked, for each vendor whose program
+  /// is beside agent_exe (started instead of agent_exe: cheaper to start, half the memory).
+  std::map<std::string, std::string> single_vendor_agent_exe;
   std::string record_exe;              ///< retreat-record, with --record; empty otherwise
   bool bridge_missing = false;         ///< no retreat-bridge next to the launcher
   unsigned jobs = 1;                   ///< seeds run at once (> 1 only in process)
 };
+
+/// The program an agent of @p vendor runs: retreat-agent-<vendor> when it was found beside
+/// retreat-agent, else retreat-agent.
+const std::string& agent_program(const Plan& plan, const std::string& vendor);
 
 /// Validates the command line and the scenario with every override; throws UsageError or
 /// scenario::ConfigError (both one line). Does not start anything or create any file.
