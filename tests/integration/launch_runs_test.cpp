@@ -94,6 +94,29 @@ TEST(LaunchRuns, RobotariumGivesOneTrajectoryOverFastDdsCycloneDdsMixedAndInProc
   }
   EXPECT_TRUE(std::filesystem::exists(mixed + "/run/logs/arena.log"));
   EXPECT_TRUE(alive(child_pids(processes)).empty());
+
+  // Without the single-vendor programs beside it (--bin-dir with retreat-arena and retreat-agent
+  // only), the launcher starts retreat-agent, and the trajectory is the same. (The Cyclone DDS
+  // run above has ended: its domain is free again.)
+  const auto plain = fresh_dir("robotarium-plain-agent");
+  const auto bin = plain + "/bin";
+  std::filesystem::create_directories(bin);
+  const auto programs = std::filesystem::path(launcher).parent_path();
+  for (const char* program : {"retreat-arena", "retreat-agent"}) {
+    std::filesystem::create_symlink(std::filesystem::canonical(programs / program), bin + "/" + program);
+  }
+  ASSERT_EQ(run_launch(plain, args({robotarium, "--dds", "cyclonedds", "--domain", std::to_string(domain_cyclonedds),
+                                    "--bin-dir", bin},
+                                   short_robotarium)),
+            0)
+      << log_of(plain);
+  const auto jp = expect_complete_robotarium(plain, "cyclonedds");
+  EXPECT_EQ(jp["trajectory_sha256"], jc["trajectory_sha256"]);
+  const auto plain_processes = read_json(plain + "/run/processes.json");
+  ASSERT_EQ(plain_processes["agents"].size(), 12u);
+  for (const auto& a : plain_processes["agents"]) {
+    EXPECT_EQ(a["program"], bin + "/retreat-agent");
+  }
 }
 
 // The same 12 robots in the kinetic world (the other world implementation; robots retreat from
