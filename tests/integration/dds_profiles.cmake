@@ -7,13 +7,11 @@ if(RETREAT_WITH_FASTDDS OR RETREAT_WITH_CYCLONEDDS)
   retreat_warnings(retreat_dds_swarm_node)
   # Agent-like processes with one vendor linked, as retreat-launch starts real agents
   # (retreat-agent-<vendor>): what discovery_scale.sh starts as agents when they are built.
-  if(RETREAT_SINGLE_VENDOR_PROGRAMS)
-    foreach(vendor IN ITEMS fastdds cyclonedds)
-      add_executable(retreat_dds_swarm_node_${vendor} ${CMAKE_CURRENT_LIST_DIR}/dds_swarm_node.cpp)
-      target_link_libraries(retreat_dds_swarm_node_${vendor} PRIVATE retreat::transports_${vendor}_only)
-      retreat_warnings(retreat_dds_swarm_node_${vendor})
-    endforeach()
-  endif()
+  foreach(vendor IN LISTS RETREAT_SINGLE_VENDORS)
+    add_executable(retreat_dds_swarm_node_${vendor} ${CMAKE_CURRENT_LIST_DIR}/dds_swarm_node.cpp)
+    target_link_libraries(retreat_dds_swarm_node_${vendor} PRIVATE retreat::transports_${vendor}_only)
+    retreat_warnings(retreat_dds_swarm_node_${vendor})
+  endforeach()
 
   # Domain ids 110..159 only, one per test (see the test file). Under 60 s in total.
   retreat_test(dds_profiles_test SOURCES ${CMAKE_CURRENT_LIST_DIR}/dds_profiles_test.cpp

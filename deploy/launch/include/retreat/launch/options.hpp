@@ -61,7 +61,7 @@ struct Plan {
   std::optional<int> domain;           ///< explicit domain (--domain or --set dds.domain=N)
   std::string arena_exe, agent_exe, bridge_exe;  ///< bridge_exe empty: none (or --no-bridge)
   /// retreat-agent-<vendor>, the agent with one DDS vendor linked, for each vendor whose program
-  /// is beside agent_exe (started instead of agent_exe: cheaper to start, half the memory).
+  /// is beside agent_exe (started instead of agent_exe: cheaper to start, less memory).
   std::map<std::string, std::string> single_vendor_agent_exe;
   std::string record_exe;              ///< retreat-record, with --record; empty otherwise
   bool bridge_missing = false;         ///< no retreat-bridge next to the launcher
