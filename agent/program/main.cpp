@@ -36,8 +36,8 @@ int main(int argc, char** argv) {
   try {
     const auto robot = "robot_" + std::to_string(robot_id);
     auto transport = transport::make_transport(
-        retreat::name_of(s.dds.vendor), scenario::participant_options(s, "retreat-agent/" + robot,
-                                                    agent::agent_user_data(robot_id), robot));
+        retreat::name_of(s.dds.vendor),
+        scenario::robot_participant_options(s, robot_id, "retreat-agent/" + robot, agent::agent_user_data(robot_id), robot));
     agent::AgentNode node(s, robot_id, *transport, command_line.journal);
     if (node.counters().frames_recovered > 0) {
       std::fprintf(stderr, "retreat-agent robot %u: resumed from the journal '%s': %llu frames, up to tick %lld\n",

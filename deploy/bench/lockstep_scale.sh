@@ -17,7 +17,9 @@
 #
 # Usage:
 #   deploy/bench/lockstep_scale.sh [--agents "12 50 100 200"] [--vendors "fastdds cyclonedds"]
-#       [--duration S] [--domain ID] [--out DIR] [--launcher PATH] [--plans]
+#       [--duration S] [--domain ID] [--out DIR] [--launcher PATH] [--plans] [--domains K]
+#   --domains K       spread the swarm over K DDS domains from --domain on (dds.domains: robot r's
+#                     agent on domain ID + r mod K, the arena on every one; docs/dds-profiles.md)
 #   --plans           event-driven lockstep (run.plans: agents answer with plans, a robot gets a
 #                     frame only when its input changes or its plan ends; docs/protocol.md §6)
 #   --launcher PATH   retreat-launch (default: $RETREAT_BUILD_DIR/deploy/launch/retreat-launch,
@@ -36,8 +38,10 @@ vendors="fastdds cyclonedds"
 duration=60
 domain=150
 plans=false
+domains=1
 bench_option() {
   if [ "$1" = --agents ]; then agents_list=$2; taken=2; fi
+  if [ "$1" = --domains ]; then domains=$2; taken=2; fi
   if [ "$1" = --plans ]; then plans=true; taken=1; fi
 }
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
@@ -80,6 +84,7 @@ for vendor in $vendors; do
       --set arena.robots_inside="$n" --set arena.robots_waiting=0 --set arena.queue=finite \
       --set agent.K_p=0 --set agent.lambda_in=0 --set run.duration="$duration" \
       --set run.startup_timeout=240 --set run.agent_timeout=10 --set run.plans="$plans" \
+      --set dds.domains="$domains" \
       "${profile_args[@]}" > "$out/${vendor}_$n.log" 2>&1 &
     launch_pid=$!
     while kill -0 "$launch_pid" 2>/dev/null; do
@@ -92,16 +97,16 @@ for vendor in $vendors; do
     code=0
     wait "$launch_pid" || code=$?
     mem=$(cat "$out"/.rss.* 2>/dev/null | awk '{r += $1; p += $2; k++} END {if (k) printf "%.1f %.1f", r / k / 1024, p / k / 1024; else print "- -"}')
-    line=$(python3 - "$run/summary.json" "$vendor" "$n" "$code" $mem "$plans" <<'EOF'
+    line=$(python3 - "$run/summary.json" "$vendor" "$n" "$code" $mem "$plans" "$domains" <<'EOF'
 import json, sys
-path, vendor, n, code, rss, pss, plans = sys.argv[1:8]
+path, vendor, n, code, rss, pss, plans, domains = sys.argv[1:9]
 try:
     j = json.load(open(path))
 except Exception:
     print(f"vendor={vendor} agents={n} exit={code} no summary.json")
     sys.exit(0)
 l = j.get("launch", {})
-print(f"vendor={vendor} agents={n} plans={plans} exit={code} ticks={j['ticks']} ticks_per_second={j['ticks_per_second']:.0f} "
+print(f"vendor={vendor} agents={n} domains={domains} plans={plans} exit={code} ticks={j['ticks']} ticks_per_second={j['ticks_per_second']:.0f} "
       f"answers={j.get('decisions_received')} planned={j.get('decisions_planned')} run_s={j.get('wall_seconds', 0):.2f} "
       f"startup_s={l.get('seconds_to_first_tick', -1):.2f} matched={j['agents'].get('matched')} "
       f"lost={j['agents']['lost']} agent_rss_mib={rss} agent_pss_mib={pss} wall_s={l.get('wall_seconds', 0):.1f}")

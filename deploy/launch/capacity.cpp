@@ -178,26 +178,40 @@ std::optional<std::string> capacity_refusal(const Plan& plan, const scenario::Sc
   std::vector<std::string> others = {"the arena", "the launcher"};
   if (!plan.bridge_exe.empty()) others.emplace_back("the bridge");
   if (!plan.record_exe.empty()) others.emplace_back("the recorder");
-  const std::uint32_t participants = agents + static_cast<std::uint32_t>(others.size());
-  std::string who = std::to_string(agents) + " agents";
+  // Discovery is per domain: with dds.domains K, a domain holds every K-th robot's agent and one
+  // participant of each of the others.
+  const auto domains = static_cast<std::uint32_t>(s.dds.domains);
+  const std::uint32_t per_domain = (agents + domains - 1) / domains;
+  const std::uint32_t participants = per_domain + static_cast<std::uint32_t>(others.size());
+  std::string who = std::to_string(per_domain) + " agents";
   for (std::size_t i = 0; i < others.size(); ++i) who += (i + 1 == others.size() ? " and " : ", ") + others[i];
+  const std::string where = domains == 1 ? "in one domain" : "in each of " + std::to_string(domains) + " domains";
+  // The way out for a swarm too big for one domain's discovery: enough domains that each holds
+  // at most `fits` agents.
+  const auto more_domains = [&](std::uint32_t fits) {
+    const std::uint32_t needed = fits == 0 ? 0 : (agents + fits - 1) / fits;
+    if (fits == 0 || needed > static_cast<std::uint32_t>(wire::max_domains)) return std::string();
+    return ", or spread the swarm over " + std::to_string(needed) + " domains (--set dds.domains=" +
+           std::to_string(needed) + ")";
+  };
   // Agents are the many: their settings bound the domain (a star's hub has a fixed index).
   std::vector<std::string> vendors;
   for (std::uint32_t r = 0; r < std::min<std::uint32_t>(agents, 2); ++r) vendors.push_back(plan.vendors.agent(r));
   for (const auto& vendor : vendors) {
     const auto limit = discovery_limit(vendor, s.dds.profile);
     if (limit.participants && participants > *limit.participants) {
-      return std::to_string(participants) + " DDS participants (" + who + ") in one domain on this host, but " +
+      const std::uint32_t fits = *limit.participants > others.size() ? *limit.participants - static_cast<std::uint32_t>(others.size()) : 0;
+      return std::to_string(participants) + " DDS participants (" + who + ") " + where + " on this host, but " +
              limit.settings + " discover at most " + std::to_string(*limit.participants) +
              ": use the star profiles (deploy/dds/*-star-*.xml or the Fast DDS discovery-server pair, "
-             "with --arena-profile; docs/dds-profiles.md), or fewer agents per host";
+             "with --arena-profile; docs/dds-profiles.md)" + more_domains(fits) + ", or fewer agents per host";
     }
-    if (limit.agents && agents > *limit.agents) {
-      return std::to_string(agents) + " agents with " + limit.settings + ", but such a swarm was measured to run " +
-             "with at most " + std::to_string(*limit.agents) +
-             " (the arena announces its 2 endpoints per robot to every agent: 2N^2 announcements; "
-             "docs/benchmarks.md, \"Discovery\"): run fewer agents per swarm, or try the Fast DDS "
-             "discovery-server profiles (measured up to 500)";
+    if (limit.agents && per_domain > *limit.agents) {
+      return std::to_string(per_domain) + " agents " + where + " with " + limit.settings +
+             ", but such a swarm was measured to run with at most " + std::to_string(*limit.agents) +
+             " per domain (the arena announces its 2 endpoints per robot to every agent of the domain: 2N^2 "
+             "announcements; docs/benchmarks.md, \"Discovery\")" + more_domains(*limit.agents) +
+             ", or run fewer agents per swarm";
     }
   }
   std::uint64_t threads = 0;

@@ -11,40 +11,51 @@ namespace retreat::launch {
 
 std::string DomainLock::path(int domain) { return "/tmp/retreat-domain-" + std::to_string(domain) + ".lock"; }
 
-std::optional<DomainLock> DomainLock::try_lock(int domain) {
-  // Read-only is enough for flock, and lets users share lock files created by each other.
-  const auto file = path(domain);
-  const int fd = ::open(file.c_str(), O_RDONLY | O_CREAT | O_CLOEXEC, 0666);
-  if (fd < 0) return std::nullopt;
-  ::fchmod(fd, 0666);  // best effort (umask); fails harmlessly on another user's file
-  if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
-    ::close(fd);
+std::optional<DomainLock> DomainLock::try_lock(int domain, int count) {
+  std::vector<int> fds;
+  const auto give_up = [&] {
+    for (const int fd : fds) ::close(fd);
     return std::nullopt;
+  };
+  for (int d = domain; d < domain + count; ++d) {
+    // Read-only is enough for flock, and lets users share lock files created by each other.
+    const auto file = path(d);
+    const int fd = ::open(file.c_str(), O_RDONLY | O_CREAT | O_CLOEXEC, 0666);
+    if (fd < 0) return give_up();
+    ::fchmod(fd, 0666);  // best effort (umask); fails harmlessly on another user's file
+    if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+      ::close(fd);
+      return give_up();
+    }
+    fds.push_back(fd);
   }
-  return DomainLock(fd, domain);
+  return DomainLock(std::move(fds), domain);
 }
 
-DomainLock DomainLock::pick_free(int first, int last) {
+DomainLock DomainLock::pick_free(int first, int last, int count) {
   for (int d = first; d <= last; ++d) {
-    if (auto lock = try_lock(d)) return std::move(*lock);
+    if (auto lock = try_lock(d, count)) return std::move(*lock);
   }
-  throw std::runtime_error("no free DDS domain id in " + std::to_string(first) + ".." +
-                           std::to_string(last) + " (every /tmp/retreat-domain-<id>.lock is held); "
-                           "give one with --domain N");
+  const std::string what = count == 1 ? "no free DDS domain id" : "no " + std::to_string(count) + " consecutive free DDS domain ids";
+  throw std::runtime_error(what + " from " + std::to_string(first) + ".." + std::to_string(last) +
+                           " on (every /tmp/retreat-domain-<id>.lock is held); give one with --domain N");
+}
+
+void DomainLock::release() {
+  for (const int fd : fds_) ::close(fd);  // closing releases the lock
+  fds_.clear();
 }
 
 DomainLock& DomainLock::operator=(DomainLock&& other) noexcept {
   if (this != &other) {
-    if (fd_ >= 0) ::close(fd_);
-    fd_ = other.fd_;
+    release();
+    fds_ = std::move(other.fds_);
+    other.fds_.clear();
     domain_ = other.domain_;
-    other.fd_ = -1;
   }
   return *this;
 }
 
-DomainLock::~DomainLock() {
-  if (fd_ >= 0) ::close(fd_);  // closing releases the lock
-}
+DomainLock::~DomainLock() { release(); }
 
 }  // namespace retreat::launch

@@ -99,18 +99,20 @@ void report(const nlohmann::json& j, const std::string& dir) {
 /// Process mode: the DDS domain this run holds while it runs (--domain, or a free one in
 /// 1..99). An empty optional after a one-line refusal.
 std::optional<launch::DomainLock> lock_domain(const launch::Plan& plan) {
+  const int domains = plan.scenario.dds.domains;
   if (plan.domain) {
-    auto lock = launch::DomainLock::try_lock(*plan.domain);
+    auto lock = launch::DomainLock::try_lock(*plan.domain, domains);
     if (!lock) {
       std::fprintf(stderr,
                    "retreat-launch: --domain %d: another retreat-launch run on this host "
-                   "uses it (%s is locked); pick another\n",
-                   *plan.domain, launch::DomainLock::path(*plan.domain).c_str());
+                   "uses it%s (%s%s is locked); pick another\n",
+                   *plan.domain, domains > 1 ? " or one of the next dds.domains - 1" : "",
+                   launch::DomainLock::path(*plan.domain).c_str(), domains > 1 ? " or a later one" : "");
     }
     return lock;
   }
   try {
-    return launch::DomainLock::pick_free(first_free_domain, last_free_domain);
+    return launch::DomainLock::pick_free(first_free_domain, last_free_domain, domains);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "retreat-launch: %s\n", e.what());
     return std::nullopt;

@@ -53,6 +53,7 @@ class TelemetryWatch {
     // Secure swarm: the launcher reads telemetry with the bridge's identity (read-only).
     auto o = scenario::participant_options(s, "retreat-launch", "retreat:launch", "bridge");
     o.domain_id = domain;
+    o.domains = 1;  // telemetry is written on the swarm's first domain
     transport_ = transport::make_transport(vendor, o);
     reader_.emplace(transport_->create_reader<wire::ArenaTelemetry>(
         {wire::arena_telemetry_topic(s.dds.prefix), transport::QosIntent::state()}));

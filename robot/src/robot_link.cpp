@@ -41,8 +41,9 @@ LinkOptions link_options(const scenario::Scenario& s, wire::RobotId robot_id) {
   options.robot_id = robot_id;
   options.vendor = std::string(name_of(s.dds.vendor));
   options.prefix = s.dds.prefix;
-  options.participant = scenario::participant_options(s, "retreat-robot/robot_" + std::to_string(robot_id),
-                                                      wire::arena_user_data, "driver_" + std::to_string(robot_id));
+  options.participant =
+      scenario::robot_participant_options(s, robot_id, "retreat-robot/robot_" + std::to_string(robot_id),
+                                          wire::arena_user_data, "driver_" + std::to_string(robot_id));
   options.lockstep = s.run.mode == scenario::RunMode::lockstep;
   options.tracked = robot_id < s.arena.external_robots;  // a real robot of a mixed swarm
   return options;

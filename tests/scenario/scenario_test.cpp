@@ -108,6 +108,9 @@ TEST(ScenarioLoader, OutOfRangeValuesNameTheKeyTheValueAndTheRange) {
   expect_error("", {"agent.dt=100"}, "agent.dt = 100: must be > 0 and <= agent.L");
   expect_error("", {"run.mode=fast"}, "run.mode = 'fast': must be one of lockstep, realtime");
   expect_error("", {"dds.domain=233"}, "dds.domain = 233: must be an integer in 0..232");
+  expect_error("", {"dds.domains=0"}, "dds.domains = 0: must be an integer in 1..64");
+  expect_error("", {"dds.domains=65"}, "dds.domains = 65: must be an integer in 1..64");
+  expect_error("", {"dds.domain=230", "dds.domains=4"}, "dds.domains = 4: must be an integer in 1..3");
   expect_error("", {"bridge.http=localhost"}, "bridge.http = 'localhost': must be HOST:PORT");
   expect_error("", {"dds.prefix=a//b"}, "dds.prefix = 'a//b'");
   expect_error("", {"dds.security=yes"}, "dds.security = 'yes': must be on or off");
@@ -131,8 +134,9 @@ TEST(ScenarioKeys, TheKeysAreTheSerializedMembersInFileOrder) {
   // 52 with agent.missed_onsets, agent.false_onsets, arena.missed_onsets, arena.false_onsets
   // (issue 14); 56 with arena.external_robots, external_frozen_after, external_lost_after and
   // external_max_speed (issue 15); 58 with run.plans and run.plan_horizon (issue 13); 59 with
-  // run.recorders (issue 16); 60 with run.agent_hang_timeout (issue 13).
-  ASSERT_EQ(keys.size(), 60u);
+  // run.recorders (issue 16); 60 with run.agent_hang_timeout (issue 13); 61 with dds.domains
+  // (issue 13).
+  ASSERT_EQ(keys.size(), 61u);
   EXPECT_EQ(keys.front(), "name");
   EXPECT_EQ(keys[2], "model.lambda_p");
   EXPECT_EQ(keys[15], "arena.encounter_model");

@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "retreat/transport/inmemory.hpp"
+#include "retreat/transport/sharded.hpp"
 #ifdef RETREAT_HAVE_FASTDDS
 #include "retreat/transport/fastdds.hpp"
 #endif
@@ -29,7 +30,9 @@ std::vector<std::string> available_vendors() {
   return out;
 }
 
-std::unique_ptr<Transport> make_transport(std::string_view vendor, const ParticipantOptions& options) {
+namespace {
+
+std::unique_ptr<Transport> make_one_domain(std::string_view vendor, const ParticipantOptions& options) {
 #ifdef RETREAT_HAVE_FASTDDS
   if (vendor == "fastdds") return make_fastdds_transport(options);
 #endif
@@ -40,6 +43,22 @@ std::unique_ptr<Transport> make_transport(std::string_view vendor, const Partici
   std::string allowed;
   for (const auto& v : available_vendors()) allowed += (allowed.empty() ? "" : ", ") + v;
   throw std::invalid_argument("--dds '" + std::string(vendor) + "': must be one of " + allowed);
+}
+
+}  // namespace
+
+std::unique_ptr<Transport> make_transport(std::string_view vendor, const ParticipantOptions& options) {
+  if (options.domains == 1) return make_one_domain(vendor, options);
+  validate(options);
+  std::vector<std::unique_ptr<Transport>> shards;
+  for (int i = 0; i < options.domains; ++i) {
+    ParticipantOptions one = options;
+    one.domain_id = options.domain_id + i;
+    one.domains = 1;
+    one.domain_index = i;
+    shards.push_back(make_one_domain(vendor, one));
+  }
+  return std::make_unique<ShardedTransport>(std::move(shards));
 }
 
 std::optional<wire::AnyMessage> decode_serialized(wire::MessageKind kind, std::span<const std::byte> bytes) {

@@ -284,6 +284,33 @@ class FastRawReaderPort final : public detail::ReaderPort, public dds::DataReade
 };
 
 // ---- participant -----------------------------------------------------------------------------
+/// One discovery server per domain of a swarm on several domains: the participant on the swarm's
+/// domain D + i (options.domain_index i) serves at, or is a client of, the profile's server port
+/// + i, with byte 2 of the server's GUID prefix + i (ROS_DISCOVERY_SERVER's numbering), so that
+/// the servers of one process differ. Any other profile is left as it is.
+void shift_discovery_server(dds::DomainParticipantQos& qos, int domain_index) {
+  if (domain_index == 0) return;
+  using rtps::DiscoveryProtocol_t;
+  const auto shift = [&](auto& locators) {
+    for (auto& locator : locators) locator.port += static_cast<std::uint32_t>(domain_index);
+  };
+  const auto renumber = [&](rtps::GuidPrefix_t& prefix) {
+    prefix.value[2] = static_cast<rtps::octet>(prefix.value[2] + domain_index);
+  };
+  auto& builtin = qos.wire_protocol().builtin;
+  const auto protocol = builtin.discovery_config.discoveryProtocol;
+  if (protocol == DiscoveryProtocol_t::SERVER || protocol == DiscoveryProtocol_t::BACKUP) {
+    shift(builtin.metatrafficUnicastLocatorList);
+    renumber(qos.wire_protocol().prefix);
+  }
+  if (protocol != DiscoveryProtocol_t::SIMPLE && protocol != DiscoveryProtocol_t::NONE) {
+    for (auto& server : builtin.discovery_config.m_DiscoveryServers) {
+      shift(server.metatrafficUnicastLocatorList);
+      renumber(server.guidPrefix);
+    }
+  }
+}
+
 /// Owns the DomainParticipant and its publisher, subscriber and topics. Shared by the transport
 /// and its ports so that the participant is deleted last.
 class FastParticipant : public std::enable_shared_from_this<FastParticipant> {
@@ -305,6 +332,7 @@ class FastParticipant : public std::enable_shared_from_this<FastParticipant> {
                                     "profile named '" + profile_name + "'");
       }
     }
+    shift_discovery_server(qos, options.domain_index);
     if (options.security.enabled()) add_security(qos, options.security);
     qos.name(options.name.empty() ? "retreat" : options.name);
     qos.user_data().data_vec(std::vector<rtps::octet>(options.user_data.begin(), options.user_data.end()));

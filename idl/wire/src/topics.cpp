@@ -49,4 +49,8 @@ bool is_valid_prefix(const std::string& prefix) {
   return true;
 }
 
+int robot_domain(int first_domain, int domains, RobotId robot) {
+  return first_domain + static_cast<int>(robot % static_cast<RobotId>(domains));
+}
+
 }  // namespace retreat::wire

@@ -120,6 +120,31 @@ TEST(CapacityRefusal, ACycloneStarIsRefusedBeyondTheAgentsItWasMeasuredToRun) {
   EXPECT_FALSE(capacity_refusal(plan_for("fastdds", true), s, 1000, roomy));
 }
 
+TEST(CapacityRefusal, ASwarmOnSeveralDomainsIsCountedPerDomainAndTheRefusalSaysHowManyDomainsFit) {
+  // Discovery is per domain: dds.domains K puts every K-th agent on each domain.
+  scenario::Scenario s;
+  s.dds.profile = profiles + "cyclonedds-star-agent.xml";
+  const auto refused = capacity_refusal(plan_for("cyclonedds", true), s, 1000, roomy);
+  ASSERT_TRUE(refused);
+  EXPECT_NE(refused->find("--set dds.domains=4"), std::string::npos) << "ceil(1000 / 300): " << *refused;
+  s.dds.domains = 4;  // 250 per domain
+  EXPECT_FALSE(capacity_refusal(plan_for("cyclonedds", true), s, 1000, roomy));
+  s.dds.domains = 3;  // 334 per domain
+  const auto three = capacity_refusal(plan_for("cyclonedds", true), s, 1000, roomy);
+  ASSERT_TRUE(three);
+  EXPECT_NE(three->find("334 agents in each of 3 domains"), std::string::npos) << *three;
+  // Built-in settings: 120 participants per domain, 3 of them not agents.
+  scenario::Scenario builtin;
+  builtin.dds.domains = 2;
+  EXPECT_FALSE(capacity_refusal(plan_for("cyclonedds", true), builtin, 234, roomy));  // 117 + 3 per domain
+  const auto full = capacity_refusal(plan_for("cyclonedds", true), builtin, 235, roomy);
+  ASSERT_TRUE(full);
+  EXPECT_NE(full->find("121 DDS participants (118 agents, the arena, the launcher and the bridge) in each of 2 domains"),
+            std::string::npos)
+      << *full;
+  EXPECT_NE(full->find("--set dds.domains=3"), std::string::npos) << "ceil(235 / 117): " << *full;
+}
+
 TEST(CapacityRefusal, TooFewTasksOrTooLittleMemoryIsRefusedWithTheLimit) {
   scenario::Scenario s;
   s.dds.profile = profiles + "cyclonedds-star-agent.xml";

@@ -86,10 +86,20 @@ transport::ParticipantOptions participant_options(const Scenario& s, std::string
                                                   const std::string& identity) {
   transport::ParticipantOptions options;
   options.domain_id = s.dds.domain;
+  options.domains = s.dds.domains;
   options.name = std::move(name);
   options.user_data = std::move(user_data);
   options.profile = s.dds.profile;
   if (s.dds.security == Security::on) options.security = transport::swarm_identity(s.dds.security_dir, identity);
+  return options;
+}
+
+transport::ParticipantOptions robot_participant_options(const Scenario& s, wire::RobotId robot, std::string name,
+                                                        std::string user_data, const std::string& identity) {
+  auto options = participant_options(s, std::move(name), std::move(user_data), identity);
+  options.domain_id = wire::robot_domain(s.dds.domain, s.dds.domains, robot);
+  options.domain_index = options.domain_id - s.dds.domain;
+  options.domains = 1;
   return options;
 }
 

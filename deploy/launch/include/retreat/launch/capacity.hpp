@@ -26,8 +26,9 @@ struct DiscoveryLimit {
 };
 
 /// The most agents a Cyclone DDS swarm without participant indices (the star's agents) was
-/// measured to run with on this 2-core machine: 300 matched in 17 s and all answered; of 400, 69
-/// answered within a minute (docs/benchmarks.md, "Discovery").
+/// measured to run with on this 2-core machine, per domain: 300 matched in 17 s and all
+/// answered; of 400, 69 answered within a minute (docs/benchmarks.md, "Discovery"). A swarm over
+/// several domains (dds.domains) is counted per domain.
 inline constexpr std::uint32_t cyclone_star_agents = 300;
 
 /// The limit of @p vendor's settings: its built-in loopback settings when @p profile is empty
@@ -56,7 +57,8 @@ inline constexpr std::uint64_t agent_memory_estimate = 6u << 20;
 std::uint32_t agent_threads(const std::string& vendor);
 
 /// Empty when a process run of @p plan with @p agents agent processes fits @p host; otherwise
-/// the one line that says which limit it exceeds and what to do instead.
+/// the one line that says which limit it exceeds and what to do instead (for too many agents in
+/// one domain, the `dds.domains` that would hold them).
 std::optional<std::string> capacity_refusal(const Plan& plan, const scenario::Scenario& s, std::uint32_t agents,
                                             const HostLimits& host);
 

@@ -46,7 +46,16 @@ struct ParticipantOptions {
   std::string user_data;  ///< announced in discovery, e.g. "retreat:agent:robot=3"
   std::string profile;    ///< vendor XML profile file; empty = built-in loopback-only settings
   SecurityOptions security{};  ///< DDS Security; default: off
+  /// The swarm's domains, domain_id .. domain_id + domains - 1 (`dds.domains`): with more than
+  /// one, make_transport joins every one of them (a ShardedTransport, sharded.hpp). 1..wire::max_domains.
+  int domains = 1;
+  /// Which of the swarm's domains a single-domain participant is on (0 = dds.domain): set for an
+  /// agent on its robot's domain and for each participant of a ShardedTransport. The Fast DDS
+  /// adapter moves a discovery-server profile's server to port + domain_index (one server per
+  /// domain, docs/dds-profiles.md).
+  int domain_index = 0;
 };
+
 
 /// The files of one identity (`robot_<id>`, `arena`, `bridge`) in a swarm PKI directory made by
 /// deploy/security/make-swarm-pki.sh (`ca.pem`, `governance.p7s`, `<identity>/cert.pem`,
@@ -319,6 +328,7 @@ class Transport {
                                                               std::shared_ptr<RawInbox> inbox);
 
  private:
+  friend class ShardedTransport;  // creates its endpoints on its domains' transports
   std::shared_ptr<Notifier> notifier_;
   std::shared_ptr<detail::PortRegistry> registry_ = std::make_shared<detail::PortRegistry>();
   std::uint64_t seen_generation_ = 0;

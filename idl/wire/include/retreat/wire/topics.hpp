@@ -39,6 +39,12 @@ std::string agent_status_topic(const std::string& prefix);              ///< <p>
 std::string arena_telemetry_topic(const std::string& prefix);           ///< <p>/arena_telemetry
 std::string poses_topic(const std::string& prefix);                     ///< <p>/poses
 
+/// Most DDS domains one swarm may span (`dds.domains`).
+inline constexpr int max_domains = 64;
+/// A swarm on @p domains domains from @p first_domain on carries robot @p robot's per-robot
+/// topics on domain first_domain + robot mod domains; its shared topics are written on
+/// first_domain and read on every one (docs/protocol.md §1).
+int robot_domain(int first_domain, int domains, RobotId robot);
 /// The robot id a per-robot topic name belongs to, or nullopt for shared topics.
 std::optional<RobotId> robot_of_topic(const std::string& topic);
 

@@ -49,9 +49,9 @@ inline constexpr DomainBlock agent_program{"agent program, Fast DDS", 80, 4};
 inline constexpr DomainBlock recording{"recorded runs (retreat-record), one after another; also deploy/bench/record_overhead.sh", 84, 1};
 inline constexpr DomainBlock agent_program_cyclonedds{"agent program, Cyclone DDS", 85, 4};
 inline constexpr DomainBlock experiment{"retreat-experiment", 89, 1};
-// The arena program's tests borrow these two blocks: the three executables hold the CTest
-// resource lock dds_domains_90_97 (tests/integration/CMakeLists.txt), so none of them runs
-// beside another.
+// The arena program's tests and the launcher's several-domains tests borrow these two blocks:
+// the four executables hold the CTest resource lock dds_domains_90_97
+// (tests/integration/CMakeLists.txt, launch.cmake), so none of them runs beside another.
 inline constexpr DomainBlock robot_link_fastdds{"robot link, Fast DDS (and the arena program)", 90, 5};
 inline constexpr DomainBlock mixed_swarm{"mixed real-and-simulated swarm (and the arena program)", 95, 3};
 inline constexpr DomainBlock bridge{"retreat-bridge", 98, 3};

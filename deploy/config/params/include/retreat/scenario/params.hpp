@@ -95,6 +95,10 @@ struct RunParams {
 struct DdsParams {
   Vendor vendor = Vendor::fastdds;     ///< `fastdds`, `cyclonedds` (or `inmemory` in-process)
   int domain = 0;                      ///< DDS domain id, 0..232
+  /// Domains the swarm spans, domain .. domain + domains - 1 (1..64): robot r's topics on
+  /// domain + r mod domains; the arena, bridge and recorder join every one. Discovery is per
+  /// domain, so K domains divide a hub's discovery work by K (docs/dds-profiles.md).
+  int domains = 1;
   std::string prefix = "retreat";      ///< topic prefix
   std::string profile;                 ///< vendor XML profile; empty = built-in loopback settings
   Security security = Security::off;   ///< DDS Security: `on` or `off` (docs/security.md)
@@ -104,6 +108,7 @@ struct DdsParams {
   void serialize(Archive& a) {
     a("vendor", vendor);
     a("domain", domain);
+    a("domains", domains);
     a("prefix", prefix);
     a("profile", profile);
     a("security", security);

@@ -91,10 +91,16 @@ Scenario load_scenario(const CommonOptions& options);
 
 /// A participant of the scenario's swarm (its `dds` section: domain, profile, and with
 /// `dds.security: on` the identity @p identity of `dds.security_dir`, e.g. `robot_3`, `arena`,
-/// `bridge`), announcing itself as @p name with @p user_data.
+/// `bridge`), announcing itself as @p name with @p user_data, on every domain of the swarm
+/// (`dds.domains`): the arena's, the bridge's, a recorder's.
 transport::ParticipantOptions participant_options(const Scenario& s, std::string name,
                                                   std::string user_data,
                                                   const std::string& identity);
+
+/// The participant of robot @p robot's agent or driver: the same, on the robot's own domain only
+/// (wire::robot_domain).
+transport::ParticipantOptions robot_participant_options(const Scenario& s, wire::RobotId robot, std::string name,
+                                                        std::string user_data, const std::string& identity);
 
 /// Makes SIGINT and SIGTERM request a stop (see stop_requested) instead of ending the process.
 void install_stop_handlers();
