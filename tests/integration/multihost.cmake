@@ -2,7 +2,8 @@
 # namespaces joined by veth links to a bridge in a fourth, with the shipped multi-host profiles.
 # Also over a lossy network (5 % loss per host with nftables; 20 ± 5 ms netem delay where the
 # kernel has sch_netem). Needs root (skipped otherwise) and nftables for the lossy cases.
-# DDS domain ids 150..156. About 70 s in all (each case under 30 s).
+# Also the two stars over two DDS domains (dds.domains = 2). DDS domain ids 150..156 (each case in
+# namespaces of its own). About 80 s in all (each case under 35 s).
 if(RETREAT_WITH_FASTDDS OR RETREAT_WITH_CYCLONEDDS)
   retreat_test(multihost_test
     SOURCES ${CMAKE_CURRENT_LIST_DIR}/multihost_test.cpp

@@ -3,7 +3,11 @@
 // namespace. Every process uses the SHIPPED multi-host profile of its vendor (Cyclone DDS:
 // deploy/dds/cyclonedds-multihost.xml filled from RETREAT_DDS_* environment variables; Fast DDS:
 // deploy/dds/fastdds-multihost.xml filled per host with sed, as the file says). The run must
-// complete and give the same trajectory as the in-process run with the same seed.
+// complete and give the same trajectory as the in-process run with the same seed. The stars the
+// files prescribe for 200+ robots (Cyclone DDS without multicast, the arena the hub; the Fast DDS
+// discovery-server pair with the arena host's address) also run with the swarm over two DDS
+// domains (dds.domains), as the 1,000-agent benchmark over hosts does
+// (deploy/bench/multihost_scale.sh).
 //
 // Isolation: the namespaces have no interface but their own loopback and one veth end each, with
 // private addresses 10.213.0.0/24 that exist only inside them; nothing is configured in the
@@ -18,8 +22,10 @@
 // where the kernel has sch_netem, delays them by 20 ± 5 ms; a lockstep run must still give the
 // in-process trajectory, and the drop counters must show that packets were really dropped.
 //
-// Domain ids of this file: 150 (Cyclone DDS), 151 (Fast DDS), 154 (Cyclone DDS star),
-// 155 (Cyclone DDS, lossy), 156 (Fast DDS, lossy).
+// Domain ids of this file: 150 (Cyclone DDS), 151 (Fast DDS), 152..153 (Fast DDS discovery
+// server over two domains), 154 (Cyclone DDS star; 154..155 over two domains), 155 (Cyclone DDS,
+// lossy), 156 (Fast DDS, lossy). Each test's namespaces are its own network, so two tests on one
+// id never meet.
 
 #include <gtest/gtest.h>
 
@@ -52,6 +58,7 @@ using testing::ChildProcess;
 
 constexpr int domain_cyclonedds = testing::domains::multihost.at(0);
 constexpr int domain_fastdds = testing::domains::multihost.at(1);
+constexpr int domain_fastdds_server = testing::domains::multihost.at(2);
 constexpr int domain_cyclonedds_star = testing::domains::multihost.at(4);
 constexpr int domain_cyclonedds_lossy = testing::domains::multihost.at(5);
 constexpr int domain_fastdds_lossy = testing::domains::multihost.at(6);
@@ -62,6 +69,9 @@ const std::string profiles = RETREAT_DDS_PROFILES;
 /// shipped scenario runs plans): every tick's frames and decisions cross the emulated network.
 const std::vector<std::string> short_run = {"--set", "run.duration=200", "--set", "run.plans=false"};
 constexpr std::int64_t short_run_ticks = 6667;
+/// short_run with the swarm over two DDS domains (dds.domains: robot r on domain D + r mod 2).
+const std::vector<std::string> short_run_two_domains = {"--set", "run.duration=200", "--set", "run.plans=false",
+                                                        "--set", "dds.domains=2"};
 /// Fast DDS over the lossy network: a tick that loses a packet waits for the writer's next
 /// heartbeat (100 ms, set by the adapter) and the repair, about 11 ticks/s at 5 % loss (Cyclone
 /// DDS repairs faster and runs short_run): 8 simulated seconds, 267 ticks.
@@ -234,6 +244,42 @@ class Multihost : public ::testing::Test {
     return out;
   }
 
+  /// The environment of cyclonedds-multihost.xml's "star over hosts without multicast" setting.
+  std::vector<std::string> cyclone_star_env(const Host& h) const {
+    std::vector<std::string> env = {"RETREAT_DDS_INTERFACE=" + ns_interface, "RETREAT_DDS_MULTICAST=false"};
+    if (h.ns == arena_.ns) {
+      env.push_back("RETREAT_DDS_PARTICIPANT_INDEX=0");
+    } else {
+      env.push_back("RETREAT_DDS_PEERS=" + arena_.address);
+      env.push_back("RETREAT_DDS_MAX_PARTICIPANT_INDEX=2");
+    }
+    return env;
+  }
+
+  /// A discovery-server file of deploy/dds for `host`: in the client's server list 127.0.0.1
+  /// becomes the arena host's address, everywhere else `host`'s own.
+  std::string fastdds_star_profile_for(const Host& host, const std::string& file) {
+    auto text = testing::read_file(profiles + "/" + file);
+    const std::string loopback = "127.0.0.1";
+    const auto replaced = [&](std::string in, const std::string& by) {
+      for (auto at = in.find(loopback); at != std::string::npos; at = in.find(loopback, at + by.size())) {
+        in.replace(at, loopback.size(), by);
+      }
+      return in;
+    };
+    const auto list = text.find("<discoveryServersList>");
+    const auto list_end = text.find("</discoveryServersList>");
+    if (list != std::string::npos && list_end != std::string::npos) {
+      text = text.substr(0, list) + replaced(text.substr(list, list_end - list), arena_.address) + text.substr(list_end);
+    }
+    text = replaced(text, host.address);
+    EXPECT_EQ(text.find("127.0.0.1"), std::string::npos) << file;
+    EXPECT_NE(text.find(arena_.address), std::string::npos) << file;
+    const std::string out = dir_ + "/" + host.address + "-" + file;
+    std::ofstream(out) << text;
+    return out;
+  }
+
   /// The in-process reference run of the same scenario and seed.
   json in_process_reference(const std::vector<std::string>& run = short_run) {
     const std::string out = dir_ + "/in-process";
@@ -250,6 +296,7 @@ class Multihost : public ::testing::Test {
     json summary;
     double wall_seconds = 0;
     long long arena_rx_packets = -1;  ///< packets the arena's namespace received on its veth end
+    std::string scenario;             ///< the scenario the arena ran, as it wrote it (scenario.yaml)
   };
 
   /// Packets received on `host`'s veth end so far (-1 if unreadable).
@@ -295,6 +342,7 @@ class Multihost : public ::testing::Test {
                                   << testing::read_file(dir_ + "/arena-" + vendor + ".log");
     EXPECT_EQ(code.value_or(-1), 0) << testing::read_file(dir_ + "/arena-" + vendor + ".log");
     r.summary = read_json(out + "/summary.json");
+    r.scenario = testing::read_file(out + "/scenario.yaml");
     EXPECT_FALSE(r.summary.empty()) << "no summary.json; " << testing::read_file(dir_ + "/arena-" + vendor + ".log");
     // Agents: stopped by PID (the arena's end does not oblige them to exit at once).
     for (auto& p : processes_) {
@@ -404,17 +452,38 @@ TEST_F(Multihost, CycloneDdsStarWithoutMulticastOverThreeHostsGivesTheInProcessT
   const auto reference = in_process_reference();
   const auto r = run_swarm(
       "cyclonedds", domain_cyclonedds_star, [&](const Host&) { return profiles + "/cyclonedds-multihost.xml"; },
-      [&](const Host& h) {
-        std::vector<std::string> env = {"RETREAT_DDS_INTERFACE=" + ns_interface, "RETREAT_DDS_MULTICAST=false"};
-        if (h.ns == arena_.ns) {
-          env.push_back("RETREAT_DDS_PARTICIPANT_INDEX=0");
-        } else {
-          env.push_back("RETREAT_DDS_PEERS=" + arena_.address);
-          env.push_back("RETREAT_DDS_MAX_PARTICIPANT_INDEX=2");
-        }
-        return env;
-      });
+      [&](const Host& h) { return cyclone_star_env(h); });
   expect_same_run(r, reference, "cyclonedds");
+}
+
+// The same star with the swarm over two domains (dds.domains = 2, the way to 1,000 robots:
+// docs/dds-profiles.md "Several domains"): the arena is the hub, index 0, on both.
+TEST_F(Multihost, CycloneDdsStarOverTwoDomainsOverThreeHostsGivesTheInProcessTrajectory) {
+  if (!built("cyclonedds")) GTEST_SKIP() << "Cyclone DDS is not built";
+  const auto reference = in_process_reference();
+  const auto r = run_swarm(
+      "cyclonedds", domain_cyclonedds_star, [&](const Host&) { return profiles + "/cyclonedds-multihost.xml"; },
+      [&](const Host& h) { return cyclone_star_env(h); }, short_run_two_domains);
+  EXPECT_NE(r.scenario.find("domains: 2"), std::string::npos) << r.scenario;
+  expect_same_run(r, reference, "cyclonedds");
+}
+
+// Fast DDS's star over hosts, as fastdds-multihost.xml says for 200+ robots: the discovery-server
+// pair with 127.0.0.1 replaced by the arena host's address (the server's locator, and everything
+// in the hub's file) and by each agent host's own (its white list and locators); over two
+// domains, so the server of the second is at port + 1 with its own prefix.
+TEST_F(Multihost, FastDdsDiscoveryServerOverTwoDomainsOverThreeHostsGivesTheInProcessTrajectory) {
+  if (!built("fastdds")) GTEST_SKIP() << "Fast DDS is not built";
+  const auto reference = in_process_reference();
+  const auto hub = fastdds_star_profile_for(arena_, "fastdds-discovery-server-hub.xml");
+  const auto a_xml = fastdds_star_profile_for(host_a_, "fastdds-discovery-server-client.xml");
+  const auto b_xml = fastdds_star_profile_for(host_b_, "fastdds-discovery-server-client.xml");
+  const auto r = run_swarm(
+      "fastdds", domain_fastdds_server,
+      [&](const Host& h) { return h.ns == arena_.ns ? hub : h.ns == host_a_.ns ? a_xml : b_xml; },
+      [&](const Host&) { return std::vector<std::string>{}; }, short_run_two_domains);
+  EXPECT_NE(r.scenario.find("domains: 2"), std::string::npos) << r.scenario;
+  expect_same_run(r, reference, "fastdds");
 }
 
 TEST_F(Multihost, FastDdsRobotariumOverThreeHostsGivesTheInProcessTrajectory) {
