@@ -87,7 +87,12 @@ cleanup() {
   for pid in "${pids[@]}"; do kill -KILL "$pid" 2>/dev/null || true; done
   for pid in "${pids[@]}"; do wait "$pid" 2>/dev/null || true; done
   pids=()
-  for ns in "${namespaces[@]}"; do ip netns delete "$ns" 2>/dev/null || true; done
+  # Anything still in a namespace (a process started just as a signal came, before its PID was
+  # noted), by the PIDs the namespace lists, then the namespaces.
+  for ns in "${namespaces[@]}"; do
+    for pid in $(ip netns pids "$ns" 2>/dev/null); do kill -KILL "$pid" 2>/dev/null || true; done
+    ip netns delete "$ns" 2>/dev/null || true
+  done
   namespaces=()
 }
 trap cleanup EXIT
