@@ -144,7 +144,7 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(StarCase{"cyclonedds", "cyclonedds-star-hub.xml", "cyclonedds-star-agent.xml", domain_cyclone_star},
                       StarCase{"fastdds", "fastdds-discovery-server-hub.xml", "fastdds-discovery-server-client.xml",
                                domain_fastdds_server}),
-    [](const auto& info) { return std::string(info.param.vendor); });
+    [](const auto& test) { return std::string(test.param.vendor); });
 
 }  // namespace
 }  // namespace retreat::launch_test

@@ -66,10 +66,9 @@ void validate(const ParticipantOptions& options) {
     throw std::invalid_argument("dds.domain = " + std::to_string(options.domain_id) +
                                 ": must be an integer in 0.." + std::to_string(max_domain_id));
   }
-  if (options.domains < 1 || options.domains > wire::max_domains || options.domain_id + options.domains - 1 > max_domain_id) {
+  if (const int most = wire::max_domains_from(options.domain_id); options.domains < 1 || options.domains > most) {
     throw std::invalid_argument("dds.domains = " + std::to_string(options.domains) + ": must be an integer in 1.." +
-                                std::to_string(std::min(wire::max_domains, max_domain_id - options.domain_id + 1)) +
-                                " (domains " + std::to_string(options.domain_id) + ".." +
+                                std::to_string(most) + " (domains " + std::to_string(options.domain_id) + ".." +
                                 std::to_string(max_domain_id) + " are left from dds.domain)");
   }
   const auto& s = options.security;

@@ -31,6 +31,20 @@ std::unique_ptr<Transport> on_every_domain(const std::string& user_data) {
 
 wire::ProximityFrame frame(wire::RobotId robot) { return {robot, 1, 0.03, wire::Phase::inside, false, 0}; }
 
+// The one bound on dds.domains (the scenario check and validate(ParticipantOptions) both use it):
+// 64, fewer where the domain ids run out at 232.
+TEST(ShardedTransport, TheDomainsASwarmMaySpanEndWithTheDomainIds) {
+  EXPECT_EQ(wire::max_domains_from(0), wire::max_domains);
+  EXPECT_EQ(wire::max_domains_from(169), 64);
+  EXPECT_EQ(wire::max_domains_from(200), 33);
+  EXPECT_EQ(wire::max_domains_from(wire::max_domain_id), 1);
+  auto options = ParticipantOptions{200, "arena", "retreat:arena", ""};
+  options.domains = 33;
+  EXPECT_NO_THROW(validate(options));
+  options.domains = 34;
+  EXPECT_THROW(validate(options), std::invalid_argument);
+}
+
 TEST(ShardedTransport, ARobotsTopicsAreOnlyOnItsOwnDomain) {
   EXPECT_EQ(wire::robot_domain(first_domain, domains, 0), 200);
   EXPECT_EQ(wire::robot_domain(first_domain, domains, 4), 201);

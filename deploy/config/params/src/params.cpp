@@ -80,13 +80,13 @@ void validate_dds(const DdsParams& d) {
         std::to_string(static_cast<int>(d.vendor)), "must be " + enum_names(d.vendor).allowed());
   check(value_of<Security>(name_of(d.security)).has_value(), "dds.security",
         std::to_string(static_cast<int>(d.security)), "must be " + enum_names(d.security).allowed());
-  check(d.domain >= 0 && d.domain <= 232, "dds.domain", std::to_string(d.domain),
-        "must be an integer in 0..232");
-  const int domains_left = std::max(1, 232 - d.domain + 1);
-  check(d.domains >= 1 && d.domains <= std::min(wire::max_domains, domains_left), "dds.domains",
-        std::to_string(d.domains),
-        "must be an integer in 1.." + std::to_string(std::min(wire::max_domains, domains_left)) + " (dds.domain " +
-            std::to_string(d.domain) + " + dds.domains - 1 must be a domain id, at most 232)");
+  const auto last_id = std::to_string(wire::max_domain_id);
+  check(d.domain >= 0 && d.domain <= wire::max_domain_id, "dds.domain", std::to_string(d.domain),
+        "must be an integer in 0.." + last_id);
+  const int most = wire::max_domains_from(d.domain);
+  check(d.domains >= 1 && d.domains <= most, "dds.domains", std::to_string(d.domains),
+        "must be an integer in 1.." + std::to_string(most) + " (dds.domain " + std::to_string(d.domain) +
+            " + dds.domains - 1 must be a domain id, at most " + last_id + ")");
   check(wire::is_valid_prefix(d.prefix), "dds.prefix", "'" + d.prefix + "'",
         "must be 1..64 characters of letters, digits and _, with single / between parts");
   check(d.profile.empty() || retreat::is_regular_file(d.profile), "dds.profile",

@@ -63,8 +63,7 @@ struct ParticipantOptions {
 /// missing file when one is missing.
 SecurityOptions swarm_identity(const std::string& pki_dir, const std::string& identity);
 
-/// Largest domain id the RTPS well-known port mapping allows with the default port parameters.
-inline constexpr int max_domain_id = 232;
+using wire::max_domain_id;
 
 /// A remote endpoint matched with one of ours.
 struct RemoteEndpoint {

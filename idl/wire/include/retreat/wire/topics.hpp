@@ -3,6 +3,7 @@
 /// Topic names of the contract (docs/protocol.md). Per-robot topics carry what a robot receives
 /// or sends; shared keyed topics are for observation only.
 
+#include <algorithm>
 #include <optional>
 #include <string>
 
@@ -39,8 +40,16 @@ std::string agent_status_topic(const std::string& prefix);              ///< <p>
 std::string arena_telemetry_topic(const std::string& prefix);           ///< <p>/arena_telemetry
 std::string poses_topic(const std::string& prefix);                     ///< <p>/poses
 
+/// Largest domain id the RTPS well-known port mapping allows with the default port parameters.
+inline constexpr int max_domain_id = 232;
 /// Most DDS domains one swarm may span (`dds.domains`).
 inline constexpr int max_domains = 64;
+/// Most domains a swarm whose first domain is @p first_domain (0..max_domain_id) may span:
+/// max_domains, fewer where the domain ids end at max_domain_id. The one bound that the
+/// scenario check and the transport's own check both apply.
+constexpr int max_domains_from(int first_domain) {
+  return std::max(1, std::min(max_domains, max_domain_id - first_domain + 1));
+}
 /// A swarm on @p domains domains from @p first_domain on carries robot @p robot's per-robot
 /// topics on domain first_domain + robot mod domains; its shared topics are written on
 /// first_domain and read on every one (docs/protocol.md §1).
