@@ -47,8 +47,11 @@ int main(int argc, char** argv) {
     }
     const auto started = std::chrono::steady_clock::now();
     const auto startup_timeout = std::chrono::duration<double>(s.run.startup_timeout);
+    // Woken by a frame or a stop signal, not by polling: an idle agent costs its host nothing
+    // (docs/benchmarks.md, "Lockstep swarm"). The second is only a ceiling for the start-up check.
+    const scenario::StopWakeup stop_wakeup([&transport] { transport->wake(); });
     while (!scenario::stop_requested() && !node.departed()) {
-      node.spin_once(std::chrono::milliseconds(100));
+      node.spin_once(std::chrono::seconds(1));
       if (!node.arena_seen() && std::chrono::steady_clock::now() - started > startup_timeout) {
         scenario::report_error(program, "robot " + std::to_string(robot_id) +
                                             ": no arena or robot driver appeared within run.startup_timeout = " +

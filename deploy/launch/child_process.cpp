@@ -24,8 +24,9 @@ std::string ExitStatus::describe() const {
 }
 
 ChildProcess::ChildProcess(std::string name, const std::vector<std::string>& argv,
-                           const std::string& log_path, const std::vector<std::string>& extra_env)
-    : name_(std::move(name)), log_path_(log_path) {
+                           const std::string& log_path, const std::vector<std::string>& extra_env,
+                           ExecCheck check)
+    : name_(std::move(name)), log_path_(log_path), program_(argv.empty() ? std::string() : argv[0]) {
   // Everything the child needs is prepared before fork(): after it, the child may only make
   // async-signal-safe calls (the launcher has middleware threads).
   std::vector<char*> args;
@@ -63,9 +64,12 @@ ChildProcess::ChildProcess(std::string name, const std::vector<std::string>& arg
     ::dup2(null_fd, 0);
     ::dup2(log_fd, 1);
     ::dup2(log_fd, 2);
-    // Close every other descriptor (middleware sockets of the launcher) except the report pipe,
-    // which is close-on-exec.
-    for (int fd = 3; fd < 1024; ++fd) {
+    // Close every other descriptor (middleware sockets of the launcher, other children's report
+    // pipes) except the report pipe, which is close-on-exec. close_range: two system calls, not
+    // a thousand.
+    const auto keep = static_cast<unsigned>(report[1]);
+    const bool closed = (keep == 3 || ::close_range(3, keep - 1, 0) == 0) && ::close_range(keep + 1, ~0U, 0) == 0;
+    for (int fd = 3; !closed && fd < 1024; ++fd) {
       if (fd != report[1]) ::close(fd);
     }
     ::execve(args[0], args.data(), env.data());
@@ -82,21 +86,29 @@ ChildProcess::ChildProcess(std::string name, const std::vector<std::string>& arg
     throw std::runtime_error("cannot start " + argv[0] + ": " + std::strerror(fork_errno));
   }
   pid_ = pid;
+  exec_report_ = report[0];
+  if (check == ExecCheck::at_start) confirm_started();
+}
+
+void ChildProcess::confirm_started() {
+  if (exec_report_ < 0) return;
   int child_errno = 0;
   ssize_t n;
   do {
-    n = ::read(report[0], &child_errno, sizeof child_errno);
+    n = ::read(exec_report_, &child_errno, sizeof child_errno);
   } while (n < 0 && errno == EINTR);
-  ::close(report[0]);
+  ::close(exec_report_);
+  exec_report_ = -1;
   if (n == static_cast<ssize_t>(sizeof child_errno)) {
     int status = 0;
     ::waitpid(pid_, &status, 0);
     status_ = ExitStatus{127, 0};
-    throw std::runtime_error("cannot start " + argv[0] + ": " + std::strerror(child_errno));
+    throw std::runtime_error("cannot start " + program_ + ": " + std::strerror(child_errno));
   }
 }
 
 ChildProcess::~ChildProcess() {
+  if (exec_report_ >= 0) ::close(exec_report_);
   if (pid_ > 0 && !status_) {
     ::kill(pid_, SIGKILL);
     int status = 0;
@@ -108,8 +120,11 @@ ChildProcess::ChildProcess(ChildProcess&& other) noexcept
     : name_(std::move(other.name_)),
       log_path_(std::move(other.log_path_)),
       pid_(other.pid_),
-      status_(other.status_) {
+      status_(other.status_),
+      exec_report_(other.exec_report_),
+      program_(std::move(other.program_)) {
   other.pid_ = -1;
+  other.exec_report_ = -1;
 }
 
 const std::optional<ExitStatus>& ChildProcess::poll() {

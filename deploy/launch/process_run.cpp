@@ -25,6 +25,12 @@ using Clock = std::chrono::steady_clock;
 using namespace std::chrono_literals;
 
 constexpr auto agent_stagger = 5ms;
+/// Agents started and not yet confirmed to have executed their program (ExecCheck::later): the
+/// launcher does not wait for each exec, which on a host busy with the agents started before
+/// took 35 ms per agent, and keeps at most this many report pipes open.
+constexpr std::size_t unconfirmed_agents = 64;
+/// How often the launch loop asks whether an agent's process has ended.
+constexpr auto agent_poll_period = 100ms;
 constexpr auto arena_stop_grace = 10s;  // it writes the run directory's summary on SIGTERM
 constexpr auto child_stop_grace = 5s;
 /// A bridge that dies mid-run is restarted (it appends to agent_status.csv; telemetry.csv is
@@ -161,9 +167,15 @@ RunOutcome run_processes(const Plan& plan, std::uint64_t seed, const std::string
     auto p = std::make_unique<ChildProcess>(
         "retreat-agent robot " + std::to_string(robot),
         with({program, "--robot-id", std::to_string(robot), "--dds", vendor}),
-        dir + "/logs/agent_" + std::to_string(robot) + ".log");
+        dir + "/logs/agent_" + std::to_string(robot) + ".log", std::vector<std::string>{}, ExecCheck::later);
     agents.push_back({robot, vendor, program, std::move(p)});
     ++agent_vendors[vendor];
+    // The exec of the agent started unconfirmed_agents before this one: by now it has happened,
+    // and at most that many report pipes stay open.
+    if (agents.size() > unconfirmed_agents) agents[agents.size() - 1 - unconfirmed_agents].process->confirm_started();
+  };
+  const auto confirm_agents = [&] {
+    for (auto& a : agents) a.process->confirm_started();
   };
 
   bool stopped = false;
@@ -205,6 +217,7 @@ RunOutcome run_processes(const Plan& plan, std::uint64_t seed, const std::string
       std::this_thread::sleep_for(agent_stagger);
       start_agent(r);
     }
+    confirm_agents();
     const auto start_bridge = [&] {
       const std::string log = bridge_restarts == 0
                                   ? "bridge.log"
@@ -225,6 +238,7 @@ RunOutcome run_processes(const Plan& plan, std::uint64_t seed, const std::string
     progress.show_status("waiting for the arena to match " + std::to_string(agents.size()) + " agents");
     bool bridge_reported = false;
     bool recorder_reported = false;
+    Clock::time_point next_agent_poll{};
     for (;;) {
       if (stop_signal.load() != 0) {
         stopped = true;
@@ -242,15 +256,20 @@ RunOutcome run_processes(const Plan& plan, std::uint64_t seed, const std::string
         write_processes(dir, domain, *arena, plan.vendors.arena, agents, bridge.get());
         continue;
       }
-      for (auto& a : agents) {
-        const auto& st = a.process->poll();
-        if (!st || a.reported) continue;
-        a.reported = true;
-        // Exit code 0: its robot departed. Anything else: the arena counts the agent lost.
-        if (st->code != 0) {
-          progress.message("retreat-launch: retreat-agent robot " + std::to_string(a.robot) + " (pid " +
-                           std::to_string(a.process->pid()) + ") " + st->describe() +
-                           "; the arena will count it lost (" + a.process->log_path() + ")");
+      // Every agent's process state at most every agent_poll_period: the telemetry can wake this
+      // loop every tick, and a thousand waitpid() calls per tick cost more than the arena.
+      if (const auto now = Clock::now(); now >= next_agent_poll) {
+        next_agent_poll = now + agent_poll_period;
+        for (auto& a : agents) {
+          const auto& st = a.process->poll();
+          if (!st || a.reported) continue;
+          a.reported = true;
+          // Exit code 0: its robot departed. Anything else: the arena counts the agent lost.
+          if (st->code != 0) {
+            progress.message("retreat-launch: retreat-agent robot " + std::to_string(a.robot) + " (pid " +
+                             std::to_string(a.process->pid()) + ") " + st->describe() +
+                             "; the arena will count it lost (" + a.process->log_path() + ")");
+          }
         }
       }
       if (recorder && !recorder_reported && recorder->poll()) {
@@ -289,7 +308,10 @@ RunOutcome run_processes(const Plan& plan, std::uint64_t seed, const std::string
         const std::uint32_t exist = t->inside + t->waiting + t->retreating + t->departed;
         const auto before = agents.size();
         for (auto r = static_cast<std::uint32_t>(agents.size()); r < exist + endless_spare_agents; ++r) start_agent(r);
-        if (agents.size() != before) write_processes(dir, domain, *arena, plan.vendors.arena, agents, bridge.get());
+        if (agents.size() != before) {
+          confirm_agents();
+          write_processes(dir, domain, *arena, plan.vendors.arena, agents, bridge.get());
+        }
       }
     }
     watch.reset();

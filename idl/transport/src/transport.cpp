@@ -21,6 +21,8 @@ bool Transport::wait(std::chrono::nanoseconds timeout) {
   return arrived;
 }
 
+void Transport::wake() { notifier_->notify(); }
+
 std::unique_ptr<detail::ReaderPort> Transport::make_raw_reader(wire::MessageKind, const TopicSpec& topic,
                                                                 std::shared_ptr<RawInbox>) {
   throw std::invalid_argument("topic '" + topic.name + "': the " + std::string(vendor()) +

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <thread>
+
 #include "retreat/transport/inmemory.hpp"
 
 namespace retreat::transport {
@@ -117,6 +119,18 @@ TEST_F(InMemoryQos, ADroppedWriterIsNoLongerMatched) {
     EXPECT_EQ(reader.matched_count(), 1u);
   }
   EXPECT_EQ(reader.matched_count(), 0u);
+}
+
+// wake() ends a wait() of another thread as a sample would (an agent's stop signal), and
+// a wake() before the wait() is not lost.
+TEST_F(InMemoryQos, WakeEndsAWaitOnAnotherThreadAndIsNotLostWhenItComesFirst) {
+  b_->wake();
+  EXPECT_TRUE(b_->wait(0s)) << "a wake before the wait is kept";
+  EXPECT_FALSE(b_->wait(0s)) << "and counted once";
+  std::thread waker([this] { b_->wake(); });
+  // The ceiling only bounds a failure; the wake ends the wait long before.
+  EXPECT_TRUE(b_->wait(600s));
+  waker.join();
 }
 
 TEST_F(InMemoryQos, MatchedEndpointsNameTheRemoteParticipant) {

@@ -2,13 +2,20 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
 #include <charconv>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <map>
+#include <mutex>
 #include <string>
 #include <thread>
 #include <utility>
+
+#include <fcntl.h>
+#include <unistd.h>
 
 namespace retreat::scenario {
 
@@ -106,16 +113,86 @@ transport::ParticipantOptions robot_participant_options(const Scenario& s, wire:
 namespace {
 
 std::atomic<bool> stop_flag{false};  // lock-free: safe to set from a signal handler
-extern "C" void on_stop_signal(int) { stop_flag.store(true); }
+// The self-pipe: the handler writes a byte, the stop watcher's thread reads it and calls the
+// StopWakeup functions (which a signal handler may not: they lock and notify).
+int stop_pipe[2] = {-1, -1};
+
+extern "C" void on_stop_signal(int) {
+  stop_flag.store(true);
+  const int saved_errno = errno;
+  const char byte = 1;
+  // write() is async-signal-safe; the write end does not block, and a full pipe already holds
+  // the byte that wakes the watcher.
+  [[maybe_unused]] const auto written = ::write(stop_pipe[1], &byte, 1);
+  errno = saved_errno;
+}
+
+struct StopWatcher {
+  std::mutex mutex;
+  std::map<std::uint64_t, std::function<void()>> wakes;
+  std::uint64_t next_id = 0;
+  bool fired = false;
+};
+
+// Never destroyed: the watcher's thread may still be blocked reading when main returns.
+StopWatcher& stop_watcher() {
+  static auto* watcher = new StopWatcher;
+  return *watcher;
+}
+
+void watch_stop_pipe() {
+  char byte = 0;
+  for (;;) {
+    const auto n = ::read(stop_pipe[0], &byte, 1);
+    if (n == 1) break;
+    if (n < 0 && errno == EINTR) continue;
+    return;  // the pipe is gone: no stop can be signalled any more
+  }
+  auto& watcher = stop_watcher();
+  std::lock_guard lock(watcher.mutex);
+  watcher.fired = true;
+  for (auto& entry : watcher.wakes) entry.second();
+}
 
 }  // namespace
 
 void install_stop_handlers() {
+  static std::once_flag started;
+  std::call_once(started, [] {
+    int fds[2];
+    if (::pipe2(fds, O_CLOEXEC) != 0 || ::fcntl(fds[1], F_SETFL, O_NONBLOCK) != 0) {
+      // Not fatal: stop_requested() still works, and loops that rely on a StopWakeup wait with
+      // a ceiling.
+      std::fprintf(stderr, "retreat: no pipe for the stop signal (%s); a stop is noticed on the next poll\n",
+                   std::strerror(errno));
+      return;
+    }
+    stop_pipe[0] = fds[0];
+    stop_pipe[1] = fds[1];
+    std::thread(watch_stop_pipe).detach();
+  });
   std::signal(SIGINT, on_stop_signal);
   std::signal(SIGTERM, on_stop_signal);
 }
 
 bool stop_requested() { return stop_flag.load(); }
+
+StopWakeup::StopWakeup(std::function<void()> wake) {
+  auto& watcher = stop_watcher();
+  std::lock_guard lock(watcher.mutex);
+  id_ = watcher.next_id++;
+  if (watcher.fired) {
+    wake();
+    return;
+  }
+  watcher.wakes.emplace(id_, std::move(wake));
+}
+
+StopWakeup::~StopWakeup() {
+  auto& watcher = stop_watcher();
+  std::lock_guard lock(watcher.mutex);  // after a wake in progress has returned
+  watcher.wakes.erase(id_);
+}
 
 void limit_teardown(std::string_view program, std::chrono::seconds limit, int code) {
   std::thread([name = std::string(program), limit, code] {

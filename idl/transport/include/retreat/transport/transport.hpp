@@ -298,6 +298,9 @@ class Transport {
   /// Blocks until any reader of this transport has received a sample since the previous call
   /// returned, or until the timeout. Returns true when something arrived.
   bool wait(std::chrono::nanoseconds timeout);
+  /// Makes a wait() in progress on another thread, or the next one, return at once (as if a
+  /// sample had arrived): for an event that is not a sample, e.g. a stop signal. Any thread.
+  void wake();
 
   /// Our endpoints and what each is matched with (for isolation checks).
   std::vector<EndpointMatches> matched_endpoints() const { return registry_->snapshot(); }

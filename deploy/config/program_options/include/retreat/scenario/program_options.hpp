@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -107,6 +108,23 @@ void install_stop_handlers();
 
 /// Whether SIGINT or SIGTERM has arrived since install_stop_handlers().
 bool stop_requested();
+
+/// While it lives, a stop request (SIGINT or SIGTERM after install_stop_handlers()) also calls
+/// @p wake, once, from a thread of its own; at once if the stop was requested already. For a
+/// loop that blocks until its next event (e.g. Transport::wait, with Transport::wake as @p wake)
+/// instead of waking up to poll stop_requested(): a thousand idle agents polling ten times a
+/// second cost a 2-core host more than their swarm's work. @p wake must be safe to call from
+/// another thread; the destructor waits until a call in progress has returned.
+class StopWakeup {
+ public:
+  explicit StopWakeup(std::function<void()> wake);
+  ~StopWakeup();
+  StopWakeup(const StopWakeup&) = delete;
+  StopWakeup& operator=(const StopWakeup&) = delete;
+
+ private:
+  std::uint64_t id_;
+};
 
 /// How long a program whose work is done and recorded may take to tear down (delete its DDS
 /// participant): Fast DDS 2.9 was once seen blocked for good in that, with peers still alive.
