@@ -5,6 +5,9 @@
 #     round of N proximity frames out and N decisions back);
 #   * start-up: seconds from the launch until the arena published tick 0, i.e. until it had
 #     matched every agent (summary.json launch.seconds_to_first_tick);
+#   * CPU: cpu_s, the arena's and the agents' CPU time over the whole launch (start-up and
+#     shutdown included; summary.json launch.cpu_seconds, from getrusage of the reaped children),
+#     and cpu_ms_per_tick, that over the ticks run;
 #   * memory per agent process: peak RSS (VmHWM) and PSS (shared pages divided among the
 #     processes mapping them), the largest value seen every 2 s while the run went on, mean over
 #     the agents.
@@ -132,10 +135,13 @@ except Exception:
     print(f"vendor={vendor} agents={n} exit={code} no summary.json")
     sys.exit(0)
 l = j.get("launch", {})
+cpu = l.get("cpu_seconds")
+cpu_s = cpu["user"] + cpu["system"] if cpu else None
+cpu_text = f"cpu_s={cpu_s:.1f} cpu_ms_per_tick={1000 * cpu_s / max(1, j['ticks']):.3f}" if cpu else "cpu_s=- cpu_ms_per_tick=-"
 print(f"vendor={vendor} agents={n} domains={domains} plans={plans} exit={code} ticks={j['ticks']} ticks_per_second={j['ticks_per_second']:.0f} "
       f"answers={j.get('decisions_received')} planned={j.get('decisions_planned')} run_s={j.get('wall_seconds', 0):.2f} "
       f"startup_s={l.get('seconds_to_first_tick', -1):.2f} matched={j['agents'].get('matched')} "
-      f"lost={j['agents']['lost']} agent_rss_mib={rss} agent_pss_mib={pss} wall_s={l.get('wall_seconds', 0):.1f}")
+      f"lost={j['agents']['lost']} agent_rss_mib={rss} agent_pss_mib={pss} wall_s={l.get('wall_seconds', 0):.1f} {cpu_text}")
 EOF
 )
     echo "$line" | tee -a "$results"

@@ -2,6 +2,7 @@
 // one, each its own process and DDS participant, supervised by PID until the arena exits.
 
 #include <signal.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -364,6 +365,11 @@ RunOutcome run_processes(const Plan& plan, std::uint64_t seed, const std::string
   record.bridge_restarts = bridge_restarts;
   record.arena_restarts = arena_restarts;
   record.seconds_to_first_tick = first_tick_seconds.value_or(-1.0);
+  if (rusage children{}; ::getrusage(RUSAGE_CHILDREN, &children) == 0) {
+    const auto seconds = [](const timeval& t) { return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec); };
+    record.children_user_seconds = seconds(children.ru_utime);
+    record.children_system_seconds = seconds(children.ru_stime);
+  }
   record.recording = recording;
   record.recorder_exit = recorder_exit;
   RunOutcome out;

@@ -61,6 +61,9 @@ nlohmann::json update_summary(const std::string& dir, const LaunchRecord& r) {
   if (r.bridge) launch["bridge_restarts"] = r.bridge_restarts;
   if (r.mode == "processes") launch["arena_restarts"] = r.arena_restarts;
   if (r.seconds_to_first_tick >= 0) launch["seconds_to_first_tick"] = r.seconds_to_first_tick;
+  if (r.children_user_seconds >= 0) {
+    launch["cpu_seconds"] = {{"user", r.children_user_seconds}, {"system", r.children_system_seconds}};
+  }
   if (!r.recording.empty()) {
     launch["recording"] = {{"file", r.recording}, {"recorder", r.recorder_exit}};
   }

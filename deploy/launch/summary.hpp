@@ -26,6 +26,11 @@ struct LaunchRecord {
   /// From the launch until the launcher saw the arena's first telemetry (tick 0, published once
   /// the agents matched) [s]; −1: not seen (in-process, or no telemetry reader).
   double seconds_to_first_tick = -1.0;
+  /// CPU time [s] of the arena, the agents and the recorder, which the launcher has reaped when
+  /// it writes the summary (getrusage(RUSAGE_CHILDREN): exact, not sampled; not the bridge,
+  /// stopped after it, nor the launcher); −1 in-process.
+  double children_user_seconds = -1.0;
+  double children_system_seconds = -1.0;
   std::string recording;         ///< --record: the MCAP file; empty: none
   std::string recorder_exit;     ///< how retreat-record ended ("exit code 0", ...)
 };

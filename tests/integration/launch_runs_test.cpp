@@ -45,6 +45,13 @@ json expect_complete_robotarium(const std::string& dir, const std::string& dds) 
   EXPECT_EQ(j["agents"]["started"], 12);
   EXPECT_EQ(j["agents"]["lost"], 0);
   EXPECT_GT(j["launch"]["wall_seconds"].get<double>(), 0.0);
+  if (dds == "inmemory") {
+    EXPECT_FALSE(j["launch"].contains("cpu_seconds")) << "one process: no children to account";
+  } else {
+    // The reaped arena and agents used some CPU: 13 processes cannot start and run in 0 s.
+    const auto cpu = j["launch"].value("cpu_seconds", json::object());
+    EXPECT_GT(cpu.value("user", 0.0) + cpu.value("system", 0.0), 0.0) << j["launch"].dump();
+  }
   EXPECT_EQ(j["trajectory_sha256"].get<std::string>().size(), 64u);
   return j;
 }
