@@ -16,6 +16,8 @@
 #include <string>
 #include <thread>
 
+#include "retreat/testing/process.hpp"
+
 namespace retreat::launch {
 namespace {
 
@@ -30,7 +32,7 @@ class ChildProcessTest : public ::testing::Test {
 
   /// Waits for the child to end; the ceiling only bounds a failure (these children end at once).
   static ExitStatus wait_for_exit(ChildProcess& child) {
-    const auto ceiling = std::chrono::steady_clock::now() + std::chrono::minutes(5);
+    const auto ceiling = std::chrono::steady_clock::now() + retreat::testing::hang_ceiling;
     while (child.running() && std::chrono::steady_clock::now() < ceiling) {
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }
