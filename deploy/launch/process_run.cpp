@@ -26,10 +26,6 @@ using Clock = std::chrono::steady_clock;
 using namespace std::chrono_literals;
 
 constexpr auto agent_stagger = 5ms;
-/// Agents started and not yet confirmed to have executed their program (ExecCheck::later): the
-/// launcher does not wait for each exec, which on a host busy with the agents started before
-/// took 35 ms per agent, and keeps at most this many report pipes open.
-constexpr std::size_t unconfirmed_agents = 64;
 /// How often the launch loop asks whether an agent's process has ended.
 constexpr auto agent_poll_period = 100ms;
 constexpr auto arena_stop_grace = 10s;  // it writes the run directory's summary on SIGTERM
@@ -168,15 +164,9 @@ RunOutcome run_processes(const Plan& plan, std::uint64_t seed, const std::string
     auto p = std::make_unique<ChildProcess>(
         "retreat-agent robot " + std::to_string(robot),
         with({program, "--robot-id", std::to_string(robot), "--dds", vendor}),
-        dir + "/logs/agent_" + std::to_string(robot) + ".log", std::vector<std::string>{}, ExecCheck::later);
+        dir + "/logs/agent_" + std::to_string(robot) + ".log");
     agents.push_back({robot, vendor, program, std::move(p)});
     ++agent_vendors[vendor];
-    // The exec of the agent started unconfirmed_agents before this one: by now it has happened,
-    // and at most that many report pipes stay open.
-    if (agents.size() > unconfirmed_agents) agents[agents.size() - 1 - unconfirmed_agents].process->confirm_started();
-  };
-  const auto confirm_agents = [&] {
-    for (auto& a : agents) a.process->confirm_started();
   };
 
   bool stopped = false;
@@ -218,7 +208,6 @@ RunOutcome run_processes(const Plan& plan, std::uint64_t seed, const std::string
       std::this_thread::sleep_for(agent_stagger);
       start_agent(r);
     }
-    confirm_agents();
     const auto start_bridge = [&] {
       const std::string log = bridge_restarts == 0
                                   ? "bridge.log"
@@ -310,7 +299,6 @@ RunOutcome run_processes(const Plan& plan, std::uint64_t seed, const std::string
         const auto before = agents.size();
         for (auto r = static_cast<std::uint32_t>(agents.size()); r < exist + endless_spare_agents; ++r) start_agent(r);
         if (agents.size() != before) {
-          confirm_agents();
           write_processes(dir, domain, *arena, plan.vendors.arena, agents, bridge.get());
         }
       }

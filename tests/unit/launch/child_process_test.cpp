@@ -1,10 +1,12 @@
 // The launcher's child processes (retreat/launch/child_process.hpp): a program that cannot be
-// executed is reported by the constructor or, with ExecCheck::later, by confirm_started(); a
-// child inherits no descriptor of the launcher but stdin, stdout and stderr.
+// executed is reported by the constructor; a child starts with no signal blocked and inherits no
+// descriptor of the launcher but stdin, stdout and stderr.
 
 #include "retreat/launch/child_process.hpp"
 
 #include <fcntl.h>
+#include <pthread.h>
+#include <signal.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -51,30 +53,39 @@ TEST_F(ChildProcessTest, AMissingProgramIsReportedByTheConstructor) {
   }
 }
 
-TEST_F(ChildProcessTest, WithTheCheckLaterAMissingProgramIsReportedByConfirmStarted) {
-  ChildProcess child("missing", {(dir_ / "no-such-program").string()}, log("missing.log"), {}, ExecCheck::later);
-  EXPECT_THROW(child.confirm_started(), std::runtime_error);
-  ASSERT_TRUE(child.poll().has_value()) << "the failed child is reaped";
-  EXPECT_EQ(child.poll()->code, 127);
-  EXPECT_NO_THROW(child.confirm_started()) << "reported once";
-}
-
-TEST_F(ChildProcessTest, WithTheCheckLaterAProgramThatRunsIsConfirmedAndEndsWithItsOwnCode) {
-  ChildProcess child("sh", {"/bin/sh", "-c", "exit 7"}, log("sh.log"), {}, ExecCheck::later);
-  EXPECT_NO_THROW(child.confirm_started());
+TEST_F(ChildProcessTest, AProgramThatRunsEndsWithItsOwnCode) {
+  ChildProcess child("sh", {"/bin/sh", "-c", "exit 7"}, log("sh.log"));
   EXPECT_EQ(wait_for_exit(child).code, 7);
 }
 
-// The launcher's own descriptors (a DDS socket, another child's report pipe: here a file opened
+// The constructor blocks every signal while the child shares the launcher's memory: the child
+// clears its mask before its program runs, and the launcher's thread gets its own mask back.
+TEST_F(ChildProcessTest, AChildStartsWithNoSignalBlockedAndTheLauncherKeepsItsOwnMask) {
+  sigset_t usr2;
+  sigemptyset(&usr2);
+  sigaddset(&usr2, SIGUSR2);
+  sigset_t before;
+  ASSERT_EQ(::pthread_sigmask(SIG_BLOCK, &usr2, &before), 0);
+  // grep itself, not a shell: dash clears its signal mask when it starts.
+  ChildProcess child("mask", {"/bin/grep", "SigBlk", "/proc/self/status"}, log("mask.log"));
+  sigset_t after;
+  ::pthread_sigmask(SIG_SETMASK, &before, &after);
+  EXPECT_EQ(wait_for_exit(child).code, 0);
+  EXPECT_EQ(sigismember(&after, SIGUSR2), 1) << "the launcher's own blocked signal";
+  EXPECT_EQ(sigismember(&after, SIGUSR1), 0) << "the constructor's all-blocked mask left behind";
+  std::ifstream in(log("mask.log"));
+  std::stringstream status;
+  status << in.rdbuf();
+  EXPECT_EQ(status.str(), "SigBlk:\t0000000000000000\n");
+}
+
+// The launcher's own descriptors (a DDS socket, a log file: here a file opened
 // without close-on-exec) are closed in the child before its program runs.
 TEST_F(ChildProcessTest, AChildInheritsOnlyStdinStdoutAndStderr) {
   const int inheritable = ::open("/dev/null", O_RDONLY);  // deliberately without O_CLOEXEC
   ASSERT_GE(inheritable, 3);
-  ChildProcess earlier("earlier", {"/bin/sh", "-c", "exit 0"}, log("earlier.log"), {}, ExecCheck::later);
   ChildProcess child("fds", {"/bin/sh", "-c", "ls /proc/$$/fd"}, log("fds.log"));
   EXPECT_EQ(wait_for_exit(child).code, 0);
-  earlier.confirm_started();
-  wait_for_exit(earlier);
   ::close(inheritable);
   std::ifstream in(log("fds.log"));
   std::stringstream listing;

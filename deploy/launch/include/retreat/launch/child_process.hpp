@@ -20,21 +20,14 @@ struct ExitStatus {
   std::string describe() const;  ///< "exited with code 3", "was killed by signal 9 (Killed)"
 };
 
-/// When a ChildProcess learns that its program could not be executed.
-enum class ExecCheck {
-  at_start,  ///< the constructor waits until the child has executed its program (or failed to)
-  later,     ///< confirm_started() does: a launcher starting a thousand agents does not wait for
-             ///< each one's exec (on a busy host, a new process may wait tens of ms for a core)
-};
-
 class ChildProcess {
  public:
   /// Starts `argv[0]` (a path) with stdin from /dev/null and stdout+stderr into `log_path`, in
   /// the launcher's environment plus `extra_env` ("NAME=value" each, replacing a variable of the
-  /// same name). Throws std::runtime_error when the program cannot be started (with
-  /// ExecCheck::later, some of that is thrown by confirm_started()).
+  /// same name). Returns once the child has executed its program; throws std::runtime_error
+  /// when the program cannot be started (the failed child is reaped).
   ChildProcess(std::string name, const std::vector<std::string>& argv, const std::string& log_path,
-               const std::vector<std::string>& extra_env = {}, ExecCheck check = ExecCheck::at_start);
+               const std::vector<std::string>& extra_env = {});
   ~ChildProcess();  ///< kills (SIGKILL) and reaps a child still running
   ChildProcess(ChildProcess&& other) noexcept;
   ChildProcess& operator=(ChildProcess&&) = delete;
@@ -45,9 +38,6 @@ class ChildProcess {
   pid_t pid() const { return pid_; }
   const std::string& log_path() const { return log_path_; }
 
-  /// Blocks until the child has executed its program; throws std::runtime_error, as the
-  /// constructor does with ExecCheck::at_start, if it could not. At once after the first call.
-  void confirm_started();
   /// Reaps the child if it has ended (never blocks); returns how it ended, if it has.
   const std::optional<ExitStatus>& poll();
   bool running() { return !poll().has_value(); }
@@ -59,8 +49,6 @@ class ChildProcess {
   std::string log_path_;
   pid_t pid_ = -1;
   std::optional<ExitStatus> status_;
-  int exec_report_ = -1;  ///< the pipe the child writes errno into if its exec fails, until confirmed
-  std::string program_;   ///< argv[0], for confirm_started()'s message
 };
 
 /// SIGTERM to every running child, then SIGKILL to those still running after `grace`; reaps
