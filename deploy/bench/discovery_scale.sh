@@ -24,7 +24,9 @@
 #   --profile loopback  fastdds-loopback.xml or cyclonedds-loopback.xml for everyone
 #   --profile default   no profile: the adapter's built-in loopback settings
 #   --agents N          number of agent processes (default 200)
-#   --domain ID         DDS domain id (default 140)
+#   --domain ID         DDS domain id (default 10: below 101 keeps every well-known port under
+#                       Linux's ephemeral range 32768.., where any socket bound to a free port may
+#                       take one; docs/deploy.md "Domain ids")
 #   --timeout S         seconds to wait for discovery (default 240)
 #   --idle S            idle window for the CPU measurement (default 10)
 #   --shards K          Cyclone star only (default 1): K hubs, each for N/K of the robots, at
@@ -54,7 +56,7 @@ profiles="$root/deploy/dds"
 vendor=""
 profile=""
 agents=200
-domain=140
+domain=10
 timeout_s=240
 idle_s=10
 out=""

@@ -28,7 +28,9 @@
 #                     frame only when its input changes or its plan ends; docs/protocol.md §6)
 #   --launcher PATH   retreat-launch (default: $RETREAT_BUILD_DIR/deploy/launch/retreat-launch,
 #                     RETREAT_BUILD_DIR defaulting to ./build)
-#   --domain ID       DDS domain id of the runs (default 150)
+#   --domain ID       first DDS domain id of the runs (default 10; keep ID + K - 1 below 101, so
+#                     that no well-known port lies in Linux's ephemeral range 32768.., where any
+#                     socket bound to a free port may take one: docs/deploy.md "Domain ids")
 #   --duration S      simulated seconds per run (default 60: 2,000 ticks)
 #
 # Output: one line per run on stdout (also DIR/results.txt); the run directories stay in DIR.
@@ -40,7 +42,7 @@ set -euo pipefail
 agents_list="12 50 100 200"
 vendors="fastdds cyclonedds"
 duration=60
-domain=150
+domain=10
 plans=false
 domains=1
 bench_option() {
@@ -62,6 +64,7 @@ sample_memory() {
 import json, os, sys, time
 launcher, processes = int(sys.argv[1]), sys.argv[2]
 peak = {}
+pids, seen = [], None
 def field(path, name):
     try:
         with open(path) as f:
@@ -76,10 +79,12 @@ while True:
         alive = open(f"/proc/{launcher}/stat").read().rsplit(")", 1)[1].split()[0] not in "ZX"
     except OSError:
         alive = False
-    try:
-        pids = [a["pid"] for a in json.load(open(processes))["agents"]]
+    try:  # re-read only when the launcher rewrote it (225 KB at 1,000 agents)
+        stamp = os.stat(processes).st_mtime_ns
+        if stamp != seen:
+            pids, seen = [a["pid"] for a in json.load(open(processes))["agents"]], stamp
     except (OSError, ValueError, KeyError):
-        pids = []
+        pass
     for pid in pids:
         rss = field(f"/proc/{pid}/status", "VmHWM:")
         if rss is None:

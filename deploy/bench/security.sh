@@ -11,7 +11,9 @@
 #       [--domain ID] [--out DIR] [--launcher PATH]
 #   --duration S      simulated seconds per run (default 300: 10,000 ticks)
 #   --repeat N        plain/secure pairs per vendor (default 3)
-#   --domain ID       DDS domain id of the runs (default 151)
+#   --domain ID       DDS domain id of the runs (default 10: below 101 keeps every well-known port
+#                     under Linux's ephemeral range 32768.., where any socket bound to a free port
+#                     may take one; docs/deploy.md "Domain ids")
 #   --launcher PATH   retreat-launch (default: $RETREAT_BUILD_DIR/deploy/launch/retreat-launch,
 #                     RETREAT_BUILD_DIR defaulting to ./build)
 #
@@ -22,7 +24,7 @@ set -euo pipefail
 vendors="fastdds cyclonedds"
 duration=300
 repeat=3
-domain=151
+domain=10
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 bench_parse "$@"
 bench_prepare retreat-security-bench

@@ -165,6 +165,38 @@ HostLimits read_host_limits() {
   return h;
 }
 
+PortRange read_ephemeral_ports() {
+  std::ifstream in("/proc/sys/net/ipv4/ip_local_port_range");
+  PortRange r;
+  if (in >> r.first >> r.last && r.first <= r.last) return r;
+  return linux_default_ephemeral_ports;
+}
+
+PortRange well_known_ports(int domain) {
+  // RTPS 2.x §9.6.1.1 with PB = 7400, DG = 250: a domain's ports are PB + DG·domain + offsets
+  // d0..d3 (0, 10, 1, 11) + PG·index (PG = 2), all inside its block of 250.
+  const auto first = static_cast<std::uint32_t>(7400 + 250 * domain);
+  return {first, first + 249};
+}
+
+std::optional<std::string> ephemeral_port_warning(int first_domain, int count, const PortRange& ephemeral) {
+  const int last_domain = first_domain + count - 1;
+  const PortRange used{well_known_ports(first_domain).first, well_known_ports(last_domain).last};
+  if (used.last < ephemeral.first || used.first > ephemeral.last) return std::nullopt;
+  // The lowest domain whose block reaches the ephemeral range: 7400 + 250·d + 249 ≥ its first port.
+  const std::uint32_t reach = ephemeral.first > 7649 ? ephemeral.first - 7649 : 0;
+  const std::uint32_t lowest_unsafe = (reach + 249) / 250;
+  std::ostringstream line;
+  line << "DDS domain" << (count > 1 ? "s " : " ") << first_domain;
+  if (count > 1) line << ".." << last_domain;
+  line << " use" << (count > 1 ? "" : "s") << " the well-known ports " << used.first << ".." << used.last
+       << ", inside this host's ephemeral ports " << ephemeral.first << ".." << ephemeral.last
+       << " (/proc/sys/net/ipv4/ip_local_port_range): any socket bound to a free port may take one a participant "
+          "needs; prefer domain ids below "
+       << lowest_unsafe << " (docs/deploy.md, \"Domain ids\")";
+  return line.str();
+}
+
 std::uint32_t agent_threads(const std::string& vendor) {
   // Counted in /proc/<pid>/task of an agent waiting for its arena (Fast DDS 2.9: 7, Cyclone DDS
   // 0.10: 8), plus two for what a run and DDS Security add.

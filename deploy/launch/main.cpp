@@ -127,6 +127,9 @@ void announce(const launch::Plan& plan, int domain, const std::string& out) {
                "(%s)%s on DDS domain %d; run directory %s\n",
                plan.scenario.name.c_str(), plan.vendors.arena.c_str(), n, plan.vendors.label.c_str(),
                plan.endless ? " plus one per robot that joins the queue" : "", domain, out.c_str());
+  if (const auto warning = launch::ephemeral_port_warning(domain, plan.scenario.dds.domains, launch::read_ephemeral_ports())) {
+    std::fprintf(stderr, "retreat-launch: warning: %s\n", warning->c_str());
+  }
   if (!plan.bridge_exe.empty()) {
     const auto& http = plan.scenario.bridge.http;
     std::fprintf(stderr,

@@ -12,6 +12,8 @@
 #include <mutex>
 #include <thread>
 
+#include "retreat/testing/process.hpp"
+
 namespace {
 
 using namespace std::chrono_literals;
@@ -30,7 +32,7 @@ TEST(StopWakeup, AStopSignalWakesALongWaitAndSetsTheFlag) {
   });
   std::thread signaller([] { std::raise(SIGTERM); });
   std::unique_lock lock(mutex);
-  EXPECT_TRUE(changed.wait_for(lock, 600s, [&] { return woken; }));
+  EXPECT_TRUE(changed.wait_for(lock, retreat::testing::hang_ceiling, [&] { return woken; }));
   EXPECT_TRUE(retreat::scenario::stop_requested());
   lock.unlock();
   signaller.join();

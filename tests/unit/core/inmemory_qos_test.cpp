@@ -7,6 +7,7 @@
 
 #include <thread>
 
+#include "retreat/testing/process.hpp"
 #include "retreat/transport/inmemory.hpp"
 
 namespace retreat::transport {
@@ -129,7 +130,7 @@ TEST_F(InMemoryQos, WakeEndsAWaitOnAnotherThreadAndIsNotLostWhenItComesFirst) {
   EXPECT_FALSE(b_->wait(0s)) << "and counted once";
   std::thread waker([this] { b_->wake(); });
   // The ceiling only bounds a failure; the wake ends the wait long before.
-  EXPECT_TRUE(b_->wait(600s));
+  EXPECT_TRUE(b_->wait(retreat::testing::hang_ceiling));
   waker.join();
 }
 

@@ -160,6 +160,36 @@ TEST(CapacityRefusal, TooFewTasksOrTooLittleMemoryIsRefusedWithTheLimit) {
   EXPECT_NE(memory->find("100 MiB"), std::string::npos) << *memory;
 }
 
+// RTPS well-known ports: 7400 + 250·domain .. + 249. With Linux's default ephemeral ports
+// (32768..60999) the first block that reaches them is domain 101's (32650..32899).
+TEST(EphemeralPorts, DomainsWhosePortsReachTheEphemeralRangeAreNamedWithTheWayOut) {
+  EXPECT_EQ(well_known_ports(0).first, 7400u);
+  EXPECT_EQ(well_known_ports(101).last, 32899u);
+  EXPECT_FALSE(ephemeral_port_warning(0, 1, linux_default_ephemeral_ports));
+  EXPECT_FALSE(ephemeral_port_warning(81, 20, linux_default_ephemeral_ports)) << "81..100 end at port 32649";
+  const auto one = ephemeral_port_warning(101, 1, linux_default_ephemeral_ports);
+  ASSERT_TRUE(one);
+  EXPECT_NE(one->find("DDS domain 101 uses the well-known ports 32650..32899, inside this host's ephemeral ports "
+                      "32768..60999"),
+            std::string::npos)
+      << *one;
+  EXPECT_NE(one->find("prefer domain ids below 101"), std::string::npos) << *one;
+  const auto many = ephemeral_port_warning(150, 20, linux_default_ephemeral_ports);
+  ASSERT_TRUE(many);
+  EXPECT_NE(many->find("DDS domains 150..169 use the well-known ports 44900..49899"), std::string::npos) << *many;
+  // A host whose ephemeral ports begin higher (sysctl net.ipv4.ip_local_port_range) allows more.
+  EXPECT_FALSE(ephemeral_port_warning(150, 20, PortRange{50000, 60999}));
+  const auto high = ephemeral_port_warning(180, 1, PortRange{50000, 60999});
+  ASSERT_TRUE(high);
+  EXPECT_NE(high->find("prefer domain ids below 170"), std::string::npos) << *high;
+}
+
+TEST(EphemeralPorts, AreReadFromThisKernel) {
+  const auto r = read_ephemeral_ports();
+  EXPECT_LE(r.first, r.last);
+  EXPECT_GT(r.first, 0u);
+}
+
 TEST(HostLimits, AreReadFromThisKernel) {
   const auto h = read_host_limits();
   EXPECT_GT(h.memory_available, 0u);

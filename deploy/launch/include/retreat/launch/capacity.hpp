@@ -56,6 +56,24 @@ HostLimits read_host_limits();
 inline constexpr std::uint64_t agent_memory_estimate = 6u << 20;
 std::uint32_t agent_threads(const std::string& vendor);
 
+/// A range of UDP/TCP ports, first..last.
+struct PortRange {
+  std::uint32_t first = 0;
+  std::uint32_t last = 0;
+};
+/// Linux's default ephemeral ports, 32768..60999: where a socket bound to port 0 gets its port.
+inline constexpr PortRange linux_default_ephemeral_ports{32768, 60999};
+/// This host's ephemeral ports (/proc/sys/net/ipv4/ip_local_port_range; the default if unreadable).
+PortRange read_ephemeral_ports();
+/// The RTPS well-known ports of domain @p domain with the default port parameters: the block
+/// 7400 + 250·domain .. 7400 + 250·domain + 249 (discovery and user data, every participant index).
+PortRange well_known_ports(int domain);
+/// Empty unless the well-known ports of domains @p first_domain .. first_domain + count - 1
+/// overlap @p ephemeral; then one line saying so: any socket bound to a free port (a Cyclone DDS
+/// star agent's, another program's) may take a port a participant needs, which then fails to
+/// start or is not discovered. (A warning, not a refusal: most runs still find their ports free.)
+std::optional<std::string> ephemeral_port_warning(int first_domain, int count, const PortRange& ephemeral);
+
 /// Empty when a process run of @p plan with @p agents agent processes fits @p host; otherwise
 /// the one line that says which limit it exceeds and what to do instead (for too many agents in
 /// one domain, the `dds.domains` that would hold them).
