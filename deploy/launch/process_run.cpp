@@ -67,7 +67,7 @@ class TelemetryWatch {
   /// Returns the newest telemetry sample received, if any. Until the first one, waits up to
   /// `timeout` for it (the start-up is timed to it); from then on sleeps `timeout` and takes what
   /// came. The arena publishes 10 samples per simulated second, 13,000 per wall second in a fast
-  /// lockstep run, and waking for each cost robotarium-2019 over Fast DDS about a seventh of its
+  /// lockstep run, and waking for each cost robotarium-2019 over Fast DDS about a quarter of its
   /// run (docs/benchmarks.md, "The launcher's progress without a wake per sample").
   std::optional<wire::ArenaTelemetry> poll(std::chrono::milliseconds timeout) {
     if (seen_) {
