@@ -172,20 +172,25 @@ PortRange read_ephemeral_ports() {
   return linux_default_ephemeral_ports;
 }
 
+// RTPS 2.x §9.6.1.1 with PB = 7400, DG = 250: a domain's ports are PB + DG·domain + offsets
+// d0..d3 (0, 10, 1, 11) + PG·index (PG = 2), all inside its block of DG.
+constexpr std::uint32_t port_base = 7400;
+constexpr std::uint32_t domain_gain = 250;
+
 PortRange well_known_ports(int domain) {
-  // RTPS 2.x §9.6.1.1 with PB = 7400, DG = 250: a domain's ports are PB + DG·domain + offsets
-  // d0..d3 (0, 10, 1, 11) + PG·index (PG = 2), all inside its block of 250.
-  const auto first = static_cast<std::uint32_t>(7400 + 250 * domain);
-  return {first, first + 249};
+  const auto first = port_base + domain_gain * static_cast<std::uint32_t>(domain);
+  return {first, first + domain_gain - 1};
 }
 
 std::optional<std::string> ephemeral_port_warning(int first_domain, int count, const PortRange& ephemeral) {
   const int last_domain = first_domain + count - 1;
   const PortRange used{well_known_ports(first_domain).first, well_known_ports(last_domain).last};
   if (used.last < ephemeral.first || used.first > ephemeral.last) return std::nullopt;
-  // The lowest domain whose block reaches the ephemeral range: 7400 + 250·d + 249 ≥ its first port.
-  const std::uint32_t reach = ephemeral.first > 7649 ? ephemeral.first - 7649 : 0;
-  const std::uint32_t lowest_unsafe = (reach + 249) / 250;
+  // The lowest domain whose block reaches the ephemeral range: the least d with
+  // well_known_ports(d).last = well_known_ports(0).last + DG·d ≥ its first port.
+  const std::uint32_t base_last = well_known_ports(0).last;
+  const std::uint32_t reach = ephemeral.first > base_last ? ephemeral.first - base_last : 0;
+  const std::uint32_t lowest_unsafe = (reach + domain_gain - 1) / domain_gain;
   std::ostringstream line;
   line << "DDS domain" << (count > 1 ? "s " : " ") << first_domain;
   if (count > 1) line << ".." << last_domain;

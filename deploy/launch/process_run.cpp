@@ -26,8 +26,6 @@ using Clock = std::chrono::steady_clock;
 using namespace std::chrono_literals;
 
 constexpr auto agent_stagger = 5ms;
-/// How often the launch loop asks whether an agent's process has ended.
-constexpr auto agent_poll_period = 100ms;
 constexpr auto arena_stop_grace = 10s;  // it writes the run directory's summary on SIGTERM
 constexpr auto child_stop_grace = 5s;
 /// A bridge that dies mid-run is restarted (it appends to agent_status.csv; telemetry.csv is
@@ -241,7 +239,6 @@ RunOutcome run_processes(const Plan& plan, std::uint64_t seed, const std::string
     progress.show_status("waiting for the arena to match " + std::to_string(agents.size()) + " agents");
     bool bridge_reported = false;
     bool recorder_reported = false;
-    Clock::time_point next_agent_poll{};
     for (;;) {
       if (stop_signal.load() != 0) {
         stopped = true;
@@ -259,20 +256,17 @@ RunOutcome run_processes(const Plan& plan, std::uint64_t seed, const std::string
         write_processes(dir, domain, *arena, plan.vendors.arena, agents, bridge.get());
         continue;
       }
-      // Every agent's process state at most every agent_poll_period: the telemetry can wake this
-      // loop every tick, and a thousand waitpid() calls per tick cost more than the arena.
-      if (const auto now = Clock::now(); now >= next_agent_poll) {
-        next_agent_poll = now + agent_poll_period;
-        for (auto& a : agents) {
-          const auto& st = a.process->poll();
-          if (!st || a.reported) continue;
-          a.reported = true;
-          // Exit code 0: its robot departed. Anything else: the arena counts the agent lost.
-          if (st->code != 0) {
-            progress.message("retreat-launch: retreat-agent robot " + std::to_string(a.robot) + " (pid " +
-                             std::to_string(a.process->pid()) + ") " + st->describe() +
-                             "; the arena will count it lost (" + a.process->log_path() + ")");
-          }
+      // Every agent's process state once per pass: a pass takes 100 ms (the telemetry watch looks
+      // that often, not at every sample), so a thousand agents cost 10,000 waitpid() a second.
+      for (auto& a : agents) {
+        const auto& st = a.process->poll();
+        if (!st || a.reported) continue;
+        a.reported = true;
+        // Exit code 0: its robot departed. Anything else: the arena counts the agent lost.
+        if (st->code != 0) {
+          progress.message("retreat-launch: retreat-agent robot " + std::to_string(a.robot) + " (pid " +
+                           std::to_string(a.process->pid()) + ") " + st->describe() +
+                           "; the arena will count it lost (" + a.process->log_path() + ")");
         }
       }
       if (recorder && !recorder_reported && recorder->poll()) {
@@ -311,9 +305,7 @@ RunOutcome run_processes(const Plan& plan, std::uint64_t seed, const std::string
         const std::uint32_t exist = t->inside + t->waiting + t->retreating + t->departed;
         const auto before = agents.size();
         for (auto r = static_cast<std::uint32_t>(agents.size()); r < exist + endless_spare_agents; ++r) start_agent(r);
-        if (agents.size() != before) {
-          write_processes(dir, domain, *arena, plan.vendors.arena, agents, bridge.get());
-        }
+        if (agents.size() != before) write_processes(dir, domain, *arena, plan.vendors.arena, agents, bridge.get());
       }
     }
     watch.reset();
