@@ -5,7 +5,7 @@ if(RETREAT_WITH_FASTDDS OR RETREAT_WITH_CYCLONEDDS)
   retreat_test(launch_test
     SOURCES ${CMAKE_CURRENT_LIST_DIR}/launch_runs_test.cpp ${CMAKE_CURRENT_LIST_DIR}/launch_faults_test.cpp
       ${CMAKE_CURRENT_LIST_DIR}/launch_input_test.cpp ${CMAKE_CURRENT_LIST_DIR}/launch_isolation_test.cpp
-    DEPS retreat::transports retreat::testing nlohmann_json::nlohmann_json
+    DEPS retreat::launch_capacity retreat::transports retreat::testing nlohmann_json::nlohmann_json
     LABELS integration)
   # A swarm over several domains: borrows domains 90..96 under their suites' lock.
   retreat_test(launch_domains_test SOURCES ${CMAKE_CURRENT_LIST_DIR}/launch_domains_test.cpp

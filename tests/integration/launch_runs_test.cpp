@@ -11,6 +11,7 @@
 #include <set>
 #include <string>
 
+#include "retreat/launch/capacity.hpp"
 #include "retreat/testing/domains.hpp"
 #include "launch_support.hpp"
 
@@ -429,6 +430,18 @@ TEST(LaunchRuns, ACycloneStarOf130AgentsBeyondOnePortBlockCompletesWithNoneLostA
   EXPECT_EQ(s.at("agents").at("lost"), 0) << log_of(star);
   EXPECT_GT(s.at("agents").at("retreated").get<int>(), 0) << "the run exercises decisions";
   EXPECT_EQ(s.at("trajectory_sha256"), read_json(in_process + "/run/summary.json").at("trajectory_sha256"));
+  // Domain 101's well-known ports (32650..32899) reach Linux's default ephemeral range (32768..):
+  // the launcher says so at start-up in one line, with the way out. On a host whose range starts
+  // higher it says nothing: the line is checked against this host's range either way.
+  const auto log = log_of(star);
+  const auto warning = launch::ephemeral_port_warning(testing::domains::launch_star.at(0), 1,
+                                                      launch::read_ephemeral_ports());
+  if (warning) {
+    EXPECT_NE(log.find("retreat-launch: warning: " + *warning + "\n"), std::string::npos) << log;
+  } else {
+    EXPECT_EQ(log.find("ephemeral"), std::string::npos) << log;
+  }
+  EXPECT_EQ(log.find("ephemeral"), log.rfind("ephemeral")) << "one warning line: " << log;
 }
 
 }  // namespace
