@@ -56,11 +56,8 @@ class TelemetryWatch {
     o.domain_id = domain;
     o.domains = 1;  // telemetry is written on the swarm's first domain
     transport_ = transport::make_transport(vendor, o);
-    // Best effort, newest only: a progress line needs no acknowledgements, and a lost sample is
-    // made good by the next (its counts are totals).
     reader_.emplace(transport_->create_reader<wire::ArenaTelemetry>(
-        {wire::arena_telemetry_topic(s.dds.prefix),
-         transport::QosIntent{transport::Reliability::best_effort, transport::Durability::volatile_data, 1}}));
+        {wire::arena_telemetry_topic(s.dds.prefix), transport::QosIntent::newest()}));
   }
   /// Returns the newest telemetry sample received, if any. Until the first one, waits up to
   /// `timeout` for it (the start-up is timed to it); from then on sleeps `timeout` and takes what

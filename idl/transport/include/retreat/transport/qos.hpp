@@ -37,6 +37,10 @@ struct QosIntent {
   /// Reliable, transient-local, keep last 1 per instance: status, telemetry, poses; a late joiner
   /// receives the newest sample of every instance.
   static constexpr QosIntent state() { return {Reliability::reliable, Durability::transient_local, 1}; }
+  /// Best effort, volatile, keep last 1: a reader that wants only the newest sample and sends
+  /// no acknowledgements (retreat-launch's progress line; a lost sample is made good by the next,
+  /// whose counts are totals). It matches a state() writer.
+  static constexpr QosIntent newest() { return {Reliability::best_effort, Durability::volatile_data, 1}; }
   /// This intent for a writer whose every sample @p recorders recorders must get (run.recorders):
   /// a keep-last writer then keeps the last `recorded_depth` per instance, so that a sample is not
   /// replaced before a recorder that keeps up has acknowledged it (keep-last-1 was seen to lose
