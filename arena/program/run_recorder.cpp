@@ -141,7 +141,19 @@ void RunRecorder::record_state(std::int64_t tick, std::uint32_t robot, std::uint
   if (robot >= last_state_.size()) last_state_.resize(robot + 1, 0xFFFF);
   const auto state = static_cast<std::uint16_t>(phase | (retreat ? 1U << 8 : 0U));
   if (last_state_[robot] == state) return;
+  constexpr auto retreating = static_cast<std::uint8_t>(physics::Phase::retreating);
+  constexpr auto departed = static_cast<std::uint8_t>(physics::Phase::departed);
+  const bool was_retreating = (last_state_[robot] & 0xFFU) == retreating;
   last_state_[robot] = state;
+  if (robot >= retreat_started_.size()) retreat_started_.resize(robot + 1, -1);
+  if (phase == retreating && !was_retreating) {
+    retreat_started_[robot] = tick;
+  } else if (phase == departed && retreat_started_[robot] >= 0) {
+    ++retreats_completed_;
+    longest_completed_retreat_ =
+        std::max(longest_completed_retreat_, tick - retreat_started_[robot]);
+    retreat_started_[robot] = -1;
+  }
   char row[64];
   char* at = std::to_chars(row, row + 40, tick).ptr;
   *at++ = ',';
@@ -292,6 +304,32 @@ void RunRecorder::finish(const physics::World& world, const std::vector<AgentRec
                      {"frozen", e.frozen},
                      {"lost", e.lost}};
   }
+  // How long robots took to drive out, from the first tick their frame said retreating to the
+  // first that said departed (a robot that left in the last step, after the last frame, at the
+  // last tick). Retreats still under way at the end count up to the last tick: a crowd of
+  // retreating robots can hold each other still under the barrier certificates for the rest of
+  // the run (docs/experiments.md, "Retreats that never end").
+  std::uint64_t completed = retreats_completed_;
+  std::int64_t longest_completed = longest_completed_retreat_;
+  std::uint64_t under_way = 0;
+  std::int64_t longest_under_way = 0;
+  for (std::size_t id = 0; id < retreat_started_.size(); ++id) {
+    if (retreat_started_[id] < 0) continue;
+    const std::int64_t ticks = last_.tick - retreat_started_[id];
+    const auto robot = static_cast<physics::RobotId>(id);
+    if (id < world.robot_count() && world.robot_stats(robot).phase == physics::Phase::departed) {
+      ++completed;
+      longest_completed = std::max(longest_completed, ticks);
+    } else {
+      ++under_way;
+      longest_under_way = std::max(longest_under_way, ticks);
+    }
+  }
+  const double tick_dt = world.params().tick_dt;
+  j["retreats"] = {{"completed", completed},
+                   {"longest_completed_seconds", static_cast<double>(longest_completed) * tick_dt},
+                   {"under_way", under_way},
+                   {"longest_under_way_seconds", static_cast<double>(longest_under_way) * tick_dt}};
   j["commands"]["accepted"] = last_.commands.accepted;
   j["commands"]["rejected_not_inside"] = last_.commands.rejected_not_inside;
   j["commands"]["rejected_unknown"] = last_.commands.rejected_unknown;

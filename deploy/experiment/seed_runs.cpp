@@ -126,6 +126,8 @@ SeedRun read_seed_run(const fs::path& d, double C, double grid_step) {
   r.optimal_population = summary.at("optimal_population").get<double>();
   r.agents_lost = summary.at("agents").value("lost", 0u);
   r.trajectory_sha256 = summary.value("trajectory_sha256", std::string());
+  r.longest_retreat_under_way =
+      summary.value(nlohmann::json::json_pointer("/retreats/longest_under_way_seconds"), 0.0);
   auto t = read_telemetry((d / "telemetry.csv").string());
   pad_emptied_run(t, summary);
   r.duration = t.time.back();

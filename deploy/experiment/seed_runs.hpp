@@ -35,6 +35,9 @@ struct SeedRun {
   double mean_last_300s = 0.0;      ///< time-mean of `inside` over the last 300 s
   double departed = 0.0;            ///< robots that had left D by the end
   double retreating_at_end = 0.0;   ///< robots still driving out at the end
+  /// How long the longest-running of them had been driving out by the end (summary.json's
+  /// retreats.longest_under_way_seconds; 0 when none) [s].
+  double longest_retreat_under_way = 0.0;
   std::uint32_t agents_lost = 0;
   std::string trajectory_sha256;  ///< the arena's hash of every decision (same seed, same hash)
   SpanCost whole;      ///< [0, duration]

@@ -240,7 +240,7 @@ TEST(Experiment, ControllersQuickRunComparesEveryRegisteredControllerOnBothQueue
                            "J_last_half_mean", "J_last_half_sd", "mean_population_last_half",
                            "predicted_population_last_half", "predicted_by_robot_population_last_half",
                            "final_mean", "final_sd", "final_min", "final_max", "optimum", "departed_mean",
-                           "departed_min", "departed_max", "deliveries_mean", "lost_total"});
+                           "departed_min", "departed_max", "deliveries_mean", "lost_total", "stalled_seeds"});
   ASSERT_EQ(results.rows.size(), 2 * names.size());
   std::set<std::string> seen;
   for (std::size_t i = 0; i < results.rows.size(); ++i) {
@@ -280,6 +280,22 @@ TEST(Experiment, ControllersQuickRunComparesEveryRegisteredControllerOnBothQueue
                           "deliveries_mean", "lost_total"}, "results.csv");
   const auto seeds = read_csv(dir + "/out/seeds.csv");
   EXPECT_EQ(seeds.rows.size(), 2 * 2 * names.size());
+  // Each row's stalled seeds are its seeds.csv rows whose longest retreat still under way at the
+  // end exceeds a minute; a seed with none under way has 0 there.
+  for (std::size_t i = 0; i < results.rows.size(); ++i) {
+    double stalled = 0.0;
+    for (std::size_t k = 0; k < seeds.rows.size(); ++k) {
+      if (seeds.rows[k][seeds.column("scenario")] != results.rows[i][results.column("scenario")] ||
+          seeds.rows[k][seeds.column("controller")] != results.rows[i][results.column("controller")]) {
+        continue;
+      }
+      const double longest = seeds.number(k, "longest_retreat_under_way");
+      EXPECT_GE(longest, 0.0);
+      if (seeds.number(k, "retreating_at_end") == 0.0) EXPECT_EQ(longest, 0.0) << "seeds.csv row " << k;
+      if (longest > 60.0) ++stalled;
+    }
+    EXPECT_EQ(results.number(i, "stalled_seeds"), stalled) << "row " << i;
+  }
   const auto md = retreat::testing::read_file(dir + "/out/results.md");
   EXPECT_NE(md.find("| scenario | controller | J whole run |"), std::string::npos);
   EXPECT_NE(md.find("| predicted (chain) | predicted (by robot) |"), std::string::npos);

@@ -6,8 +6,11 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <string>
 
@@ -305,6 +308,85 @@ TEST(LaunchRuns, AnEndlessQueueStartsAgentsAsRobotsJoinAndGivesTheInProcessTraje
   EXPECT_GT(ji["agents"]["started"].get<int>(), 10);
   EXPECT_GE(jp["agents"]["started"].get<int>(), ji["agents"]["started"].get<int>());
   EXPECT_EQ(jp["trajectory_sha256"], ji["trajectory_sha256"]);
+}
+
+// summary.json's `retreats` says how long robots took to drive out, and which have not got out by
+// the end. steady-influx seed 7 (in process, 3 s) is a run where retreating robots jam: from
+// about 1,000 s on, a crowd of them near the boundary holds itself still under the barrier
+// certificates, and more join it (docs/experiments.md, "Retreats that never end"). The summary
+// must agree with what transitions.csv records tick by tick, recounted here on its own.
+TEST(LaunchRuns, TheSummaryReportsRetreatsCompletedAndStillUnderWayAsTheTransitionsRecordThem) {
+  const auto dir = fresh_dir("retreats-under-way");
+  ASSERT_EQ(run_launch(dir, {scenarios + "/steady-influx.yaml", "--in-process", "--seed", "7"}), 0) << log_of(dir);
+  const auto j = read_json(dir + "/run/summary.json");
+  ASSERT_TRUE(j.contains("retreats")) << j.dump();
+  const auto& r = j["retreats"];
+
+  // The recount: phase 2 (retreating) starts a retreat, phase 3 (departed) ends it.
+  std::ifstream transitions(dir + "/run/transitions.csv");
+  std::string line;
+  ASSERT_TRUE(std::getline(transitions, line)) << "no transitions.csv";
+  std::map<int, int> phase, started;  // by robot
+  std::uint64_t completed = 0;
+  std::int64_t longest_completed = 0;
+  while (std::getline(transitions, line)) {
+    std::int64_t tick = 0;
+    int robot = 0, p = 0, retreat = 0;
+    ASSERT_EQ(std::sscanf(line.c_str(), "%ld,%d,%d,%d", &tick, &robot, &p, &retreat), 4) << line;
+    if (p == 2 && phase[robot] != 2) started[robot] = static_cast<int>(tick);
+    if (p == 3 && started.count(robot) > 0) {
+      ++completed;
+      longest_completed = std::max<std::int64_t>(longest_completed, tick - started[robot]);
+      started.erase(robot);
+    }
+    phase[robot] = p;
+  }
+  // A robot that left in the last step has no frame saying so; agents.csv's departed_at does.
+  std::set<int> departed;
+  std::ifstream agents(dir + "/run/agents.csv");
+  ASSERT_TRUE(std::getline(agents, line)) << "no agents.csv";
+  ASSERT_EQ(line.rfind("robot,agent_matched,agent_lost,lost_at,retreated,retreat_at,entered_at,departed_at,", 0), 0u);
+  while (std::getline(agents, line)) {
+    int robot = 0, matched = 0, lost = 0, retreated = 0;
+    double lost_at = 0.0, retreat_at = 0.0, entered_at = 0.0, departed_at = -1.0;
+    ASSERT_EQ(std::sscanf(line.c_str(), "%d,%d,%d,%lf,%d,%lf,%lf,%lf", &robot, &matched, &lost, &lost_at, &retreated,
+                          &retreat_at, &entered_at, &departed_at), 8) << line;
+    if (departed_at >= 0.0) departed.insert(robot);
+  }
+  const std::int64_t last_tick = j["ticks"].get<std::int64_t>();
+  std::int64_t longest_under_way = 0;
+  for (auto it = started.begin(); it != started.end();) {
+    if (departed.count(it->first) > 0) {
+      ++completed;
+      longest_completed = std::max<std::int64_t>(longest_completed, last_tick - it->second);
+      it = started.erase(it);
+    } else {
+      longest_under_way = std::max<std::int64_t>(longest_under_way, last_tick - it->second);
+      ++it;
+    }
+  }
+  const double dt = 0.03;  // steady-influx's agent.dt: one tick
+  EXPECT_EQ(r["completed"].get<std::uint64_t>(), completed);
+  EXPECT_DOUBLE_EQ(r["longest_completed_seconds"].get<double>(), static_cast<double>(longest_completed) * dt);
+  EXPECT_EQ(r["under_way"].get<std::size_t>(), started.size());
+  EXPECT_DOUBLE_EQ(r["longest_under_way_seconds"].get<double>(), static_cast<double>(longest_under_way) * dt);
+
+  // The same robots as the last telemetry row's `retreating`: they are still in D.
+  std::ifstream telemetry(dir + "/run/telemetry.csv");
+  std::string last_row;
+  for (std::string row; std::getline(telemetry, row);) last_row = row;
+  int tick = 0, inside = 0, waiting = 0, retreating = -1;
+  double time = 0.0;
+  ASSERT_EQ(std::sscanf(last_row.c_str(), "%d,%lf,%d,%d,%d", &tick, &time, &inside, &waiting, &retreating), 5);
+  EXPECT_EQ(r["under_way"].get<int>(), retreating);
+
+  // This seed jams (a fact of its fixed trajectory, which the golden hashes pin): over 200
+  // retreats end, none after more than two minutes, while more than ten robots are still driving
+  // out at the end, one of them for over 20 minutes.
+  EXPECT_GT(completed, 200u);
+  EXPECT_LT(r["longest_completed_seconds"].get<double>(), 120.0);
+  EXPECT_GT(r["under_way"].get<int>(), 10);
+  EXPECT_GT(r["longest_under_way_seconds"].get<double>(), 1200.0);
 }
 
 TEST(LaunchRuns, RealTimeModePassesThrough) {

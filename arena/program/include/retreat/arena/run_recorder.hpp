@@ -144,6 +144,9 @@ class RunRecorder {
   std::ofstream chain_;        ///< chain.bin: magic, then one link per tick from tick 0
   std::ofstream transitions_;  ///< transitions.csv
   std::vector<std::uint16_t> last_state_;  ///< by robot: phase | retreat << 8; 0xFFFF before its first
+  std::vector<std::int64_t> retreat_started_;  ///< by robot: when it began retreating [tick]; −1: not
+  std::uint64_t retreats_completed_ = 0;        ///< retreating robots that then departed
+  std::int64_t longest_completed_retreat_ = 0;  ///< [ticks]
   std::int64_t next_link_tick_ = 0;
   std::int64_t resumable_tick_ = 0;
   RetreatJournal journal_;
