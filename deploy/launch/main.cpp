@@ -81,17 +81,27 @@ void install_signal_handlers() {
 }
 
 void report(const nlohmann::json& j, const std::string& dir) {
+  using ptr = nlohmann::json::json_pointer;
   const auto hash = j.value("trajectory_sha256", std::string());
+  // Robots still driving out at the end, and for how long: minutes mean a jam
+  // (docs/experiments.md, "Retreats that never end").
+  std::string under_way;
+  if (const int n = j.value(ptr("/retreats/under_way"), 0); n > 0) {
+    char text[96];
+    std::snprintf(text, sizeof text, ", %d still driving out (the longest for %.0f s)", n,
+                  j.value(ptr("/retreats/longest_under_way_seconds"), 0.0));
+    under_way = text;
+  }
   std::fprintf(stderr,
                "retreat-launch: %s seed %llu done: %lld ticks in %.1f s (%.0f ticks/s), population "
-               "%d (mean of the last 300 s %.2f, optimum %.2f), %d agents lost, %lld deliveries, "
+               "%d (mean of the last 300 s %.2f, optimum %.2f)%s, %d agents lost, %lld deliveries, "
                "trajectory %s; %s/summary.json\n",
                j.value("scenario", std::string()).c_str(),
                static_cast<unsigned long long>(j.value("seed", 0ull)), j.value("ticks", 0ll),
                j.value("wall_seconds", 0.0), j.value("ticks_per_second", 0.0),
                j.value(nlohmann::json::json_pointer("/population/final"), 0),
                j.value(nlohmann::json::json_pointer("/population/mean_last_300s"), 0.0),
-               j.value("optimal_population", 0.0),
+               j.value("optimal_population", 0.0), under_way.c_str(),
                j.value(nlohmann::json::json_pointer("/agents/lost"), 0), j.value("deliveries", 0ll),
                hash.substr(0, 16).c_str(), dir.c_str());
 }

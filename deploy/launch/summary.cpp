@@ -88,6 +88,8 @@ nlohmann::json write_seeds_summary(const std::string& out_dir, const std::vector
                     {"population_mean_last_300s", s.value(ptr("/population/mean_last_300s"), 0.0)},
                     {"deliveries", s.value("deliveries", 0)},
                     {"agents_lost", s.value(ptr("/agents/lost"), 0)},
+                    {"retreats_under_way", s.value(ptr("/retreats/under_way"), 0)},
+                    {"longest_retreat_under_way_seconds", s.value(ptr("/retreats/longest_under_way_seconds"), 0.0)},
                     {"ticks", s.value("ticks", 0)},
                     {"trajectory_sha256", s.value("trajectory_sha256", std::string())}});
   }

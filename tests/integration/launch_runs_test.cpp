@@ -321,6 +321,11 @@ TEST(LaunchRuns, TheSummaryReportsRetreatsCompletedAndStillUnderWayAsTheTransiti
   const auto j = read_json(dir + "/run/summary.json");
   ASSERT_TRUE(j.contains("retreats")) << j.dump();
   const auto& r = j["retreats"];
+  // The run's "done" line names them.
+  char done[128];
+  std::snprintf(done, sizeof done, "optimum 4.55), %d still driving out (the longest for %.0f s), ",
+                r["under_way"].get<int>(), r["longest_under_way_seconds"].get<double>());
+  EXPECT_NE(log_of(dir).find(done), std::string::npos) << done << "\n" << log_of(dir);
 
   // The recount: phase 2 (retreating) starts a retreat, phase 3 (departed) ends it.
   std::ifstream transitions(dir + "/run/transitions.csv");
