@@ -10,7 +10,6 @@
 //   results.csv    one row per scenario and controller (the table's numbers)
 //   results.md     the table in Markdown;  results.json;  population.csv;  report.html
 
-#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -29,13 +28,6 @@ namespace {
 
 /// The endless queue's run in the reduced size (steady-influx.yaml runs an hour) [s].
 constexpr double quick_endless = 1200.0;
-
-/// A retreat still under way at the end after this long is stalled [s]. With both scenarios'
-/// ellipse (semi-axes 1.2 m and 0.8 m) no point is more than 0.8 m from the boundary, so a robot
-/// driving out unhindered at v = 0.1 m/s is out within (0.8 + 0.055) / 0.1 ≈ 9 s; with the others
-/// in its way, 99 % of the retreats that ended took under 22 s in every row of the full run
-/// (docs/experiments.md, "Retreats that never end"). A minute is well past both.
-constexpr double stalled_after = 60.0;
 
 std::string pm(const Moments& m, int digits) {
   return std::isfinite(m.mean) ? fixed(m.mean, digits) + " ± " + fixed(m.sd, digits) : "∞ (a seed without deliveries)";
@@ -88,8 +80,7 @@ void tabulate(Tables& t, const QueueCase& c, const Ensemble& e, const scenario::
   const auto pop_half = over_seeds(e, [](const SeedRun& r) { return r.last_half.mean_population; });
   double lost = 0.0;  // agents the arena declared lost, all seeds
   for (const auto& r : e.runs) lost += r.agents_lost;
-  const auto stalled = static_cast<double>(std::count_if(
-      e.runs.begin(), e.runs.end(), [](const SeedRun& r) { return r.longest_retreat_under_way > stalled_after; }));
+  const auto stalled = static_cast<double>(stalled_seeds(e));
   const double optimum = e.runs.front().optimal_population;
   const double jw = pooled_J(e, s.model.C, false), jh = pooled_J(e, s.model.C, true);
   const double duration = e.runs.front().duration;
@@ -181,7 +172,7 @@ void write_markdown(const std::string& out, const SeedRange& seeds, std::uint32_
         "robot\" is the same chain run robot by robot (experiment::robot_by_robot_chain: Poisson onsets at the "
         "model's rate into each robot's own window and rule, " + std::to_string(by_robot_runs) + " runs). \"Seeds with a "
         "stalled retreat\" counts the seeds that ended with a robot still driving out after more than " +
-        fixed(stalled_after, 0) + " s (summary.json's retreats.longest_under_way_seconds): robots jammed under the "
+        fixed(stalled_retreat_after, 0) + " s (summary.json's retreats.longest_under_way_seconds): robots jammed under the "
         "barrier certificates.\n\n" + markdown);
 }
 

@@ -83,6 +83,12 @@ void write_population_rows(CsvWriter& csv, const Ensemble& e) {
   }
 }
 
+std::size_t stalled_seeds(const Ensemble& e) {
+  return static_cast<std::size_t>(std::count_if(e.runs.begin(), e.runs.end(), [](const SeedRun& r) {
+    return r.longest_retreat_under_way > stalled_retreat_after;
+  }));
+}
+
 double pooled_J(const Ensemble& e, double C, bool last_half) {
   double output = 0.0, lambda = 0.0;
   for (const auto& r : e.runs) {

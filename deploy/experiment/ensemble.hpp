@@ -33,6 +33,18 @@ Ensemble run_ensemble(const std::string& launcher, const std::string& name, cons
 /// mean λ̄ (MODEL.md §4); +∞ when no seed delivered anything in the span.
 double pooled_J(const Ensemble& e, double C, bool last_half);
 
+/// A retreat still under way at the end after this long is stalled [s]. No point of the shipped
+/// or swept domains is more than 1 m from their boundary (the 3.2 m × 2.0 m rectangle; the
+/// shipped ellipse's semi-minor axis is 0.8 m), so a robot driving out unhindered at v = 0.1 m/s
+/// is out within (1 + 0.055) / 0.1 ≈ 11 s; with the others in its way, 99 % of the retreats that
+/// ended took under 22 s in every row of the full controllers run (docs/experiments.md,
+/// "Retreats that never end"). A minute is well past both.
+inline constexpr double stalled_retreat_after = 60.0;
+
+/// The seeds of `e` that ended with a retreat under way for longer than stalled_retreat_after:
+/// robots jammed under the barrier certificates.
+std::size_t stalled_seeds(const Ensemble& e);
+
 /// Statistics over seeds of one per-seed number.
 Moments over_seeds(const Ensemble& e, double (*value)(const SeedRun&));
 

@@ -74,6 +74,7 @@ struct Result {
   double mean = 0.0, sd = 0.0, optimum = 0.0, J = 0.0;
   double error = 0.0;       ///< |mean − N*|/N*
   double relative_J = 0.0;  ///< J over paper's in the same cell
+  std::size_t stalled = 0;  ///< seeds that ended with a stalled retreat (stalled_seeds)
 };
 
 
@@ -90,7 +91,7 @@ int run_sweep(const SweepOptions& o) {
   std::vector<std::vector<Result>> results;
   CsvWriter csv(out + "/results.csv", {"cell", "queue", "controller", "seeds", "optimum", "mean_population_last_half",
                                        "sd_population_last_half", "relative_error", "J_last_half_pooled",
-                                       "J_relative_to_paper", "reachable"});
+                                       "J_relative_to_paper", "reachable", "stalled_seeds"});
   nlohmann::json json_rows = nlohmann::json::array();
   for (const auto& cell : cells()) {
     const std::string& file = queues[cell.endless ? 1 : 0].file;
@@ -105,7 +106,8 @@ int run_sweep(const SweepOptions& o) {
       r.overrides.push_back("agent.controller=" + rule);
       const auto e = run_ensemble(o.common.launcher, cell.name + "-" + rule, rule, r, C);
       const auto population = over_seeds(e, [](const SeedRun& x) { return x.last_half.mean_population; });
-      row.push_back({population.mean, population.sd, e.runs.front().optimal_population, pooled_J(e, C, true)});
+      row.push_back({population.mean, population.sd, e.runs.front().optimal_population, pooled_J(e, C, true),
+                     0.0, 0.0, stalled_seeds(e)});
       drop_per_tick_files(e);
       std::fprintf(stderr, "retreat-experiment: sweep: %s, %s: last half %.2f ± %.2f (optimum %.2f)\n",
                    cell.name.c_str(), rule.c_str(), population.mean, population.sd, row.back().optimum);
@@ -115,13 +117,13 @@ int run_sweep(const SweepOptions& o) {
       x.error = std::abs(x.mean - x.optimum) / x.optimum;
       x.relative_J = x.J / row.front().J;  // rules[0] is paper
       csv.row({cell.name, cell.endless ? "endless" : "finite", rules[k], seeds.count(), x.optimum, x.mean, x.sd,
-               x.error, x.J, x.relative_J, cell.unreachable.empty() ? 1 : 0});
+               x.error, x.J, x.relative_J, cell.unreachable.empty() ? 1 : 0, x.stalled});
       json_rows.push_back({{"cell", cell.name}, {"queue", cell.endless ? "endless" : "finite"},
                            {"overrides", cell.overrides}, {"controller", rules[k]}, {"optimum", x.optimum},
                            {"population_last_half", {{"mean", x.mean}, {"sd", x.sd}}},
                            {"relative_error", x.error}, {"J_last_half_pooled", finite_or_null(x.J)},
                            {"J_relative_to_paper", finite_or_null(x.relative_J)},
-                           {"unreachable", cell.unreachable}});
+                           {"unreachable", cell.unreachable}, {"stalled_seeds", x.stalled}});
     }
     results.push_back(std::move(row));
   }

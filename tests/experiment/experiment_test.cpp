@@ -232,7 +232,8 @@ TEST(Experiment, RobotariumQuickRunCoversProcessesInProcessEndlessAndKinetic) {
 
 TEST(Experiment, ControllersQuickRunComparesEveryRegisteredControllerOnBothQueues) {
   const auto dir = fresh_dir("controllers");
-  const auto [code, output] = run(dir, {"controllers", "--quick", "--seeds", "1:2", "--out", dir + "/out"});
+  // Seed 7 is one where retreating robots jam with the endless queue (docs/experiments.md).
+  const auto [code, output] = run(dir, {"controllers", "--quick", "--seeds", "6:7", "--out", dir + "/out"});
   ASSERT_EQ(code, 0) << output;
   const auto names = retreat::agent::controller_names();
   const auto results = read_csv(dir + "/out/results.csv");
@@ -291,10 +292,17 @@ TEST(Experiment, ControllersQuickRunComparesEveryRegisteredControllerOnBothQueue
       }
       const double longest = seeds.number(k, "longest_retreat_under_way");
       EXPECT_GE(longest, 0.0);
-      if (seeds.number(k, "retreating_at_end") == 0.0) EXPECT_EQ(longest, 0.0) << "seeds.csv row " << k;
+      if (seeds.number(k, "retreating_at_end") == 0.0) {
+        EXPECT_EQ(longest, 0.0) << "seeds.csv row " << k;
+      }
       if (longest > 60.0) ++stalled;
     }
     EXPECT_EQ(results.number(i, "stalled_seeds"), stalled) << "row " << i;
+    if (results.rows[i][results.column("scenario")] == "endless" &&
+        results.rows[i][results.column("controller")] == "paper") {
+      // Seed 7's first robot to stall began retreating at about 97 s (LaunchRuns.TheSummaryReports…).
+      EXPECT_EQ(stalled, 1.0) << "seed 7 under paper no longer jams; the test needs another seed";
+    }
   }
   const auto md = retreat::testing::read_file(dir + "/out/results.md");
   EXPECT_NE(md.find("| scenario | controller | J whole run |"), std::string::npos);
@@ -359,13 +367,14 @@ TEST(Experiment, NoiseQuickRunGivesEveryRuleOnEverySensorAndTheCorrectedRules) {
 
 TEST(Experiment, SweepQuickRunPutsEveryRuleOnEveryCellWithItsHeatMaps) {
   const auto dir = fresh_dir("sweep");
-  const auto [code, output] = run(dir, {"sweep", "--quick", "--seeds", "1:1", "--out", dir + "/out"});
+  // Seed 7: retreating robots jam in the endless cell (docs/experiments.md), stalled_seeds counts it.
+  const auto [code, output] = run(dir, {"sweep", "--quick", "--seeds", "7:7", "--out", dir + "/out"});
   ASSERT_EQ(code, 0) << output;
   const auto names = retreat::agent::controller_names();
   const auto results = read_csv(dir + "/out/results.csv");
   expect_columns(results, {"cell", "queue", "controller", "seeds", "optimum", "mean_population_last_half",
                            "sd_population_last_half", "relative_error", "J_last_half_pooled", "J_relative_to_paper",
-                           "reachable"});
+                           "reachable", "stalled_seeds"});
   ASSERT_EQ(results.rows.size() % names.size(), 0u);
   const std::size_t cells = results.rows.size() / names.size();
   EXPECT_GE(cells, 16u);
@@ -383,6 +392,25 @@ TEST(Experiment, SweepQuickRunPutsEveryRuleOnEveryCellWithItsHeatMaps) {
     }
   }
   EXPECT_GE(optima.size(), 5u) << "the cells cover several sizes of D and λ*";
+  // Each row's stalled seeds are its seeds whose summary.json has a retreat under way for more
+  // than a minute at the end (the summaries stay when the per-tick files are dropped).
+  for (std::size_t i = 0; i < results.rows.size(); ++i) {
+    const std::string runs = dir + "/out/runs/" + results.rows[i][results.column("cell")] + "/" +
+                             results.rows[i][results.column("controller")];
+    double stalled = 0.0, summaries = 0.0;
+    for (const auto& seed : std::filesystem::directory_iterator(runs)) {
+      if (seed.path().filename().string().rfind("seed_", 0) != 0) continue;
+      const auto summary = nlohmann::json::parse(retreat::testing::read_file((seed.path() / "summary.json").string()));
+      ++summaries;
+      if (summary.at("retreats").at("longest_under_way_seconds").get<double>() > 60.0) ++stalled;
+    }
+    EXPECT_EQ(summaries, results.number(i, "seeds")) << runs;
+    EXPECT_EQ(results.number(i, "stalled_seeds"), stalled) << runs;
+    if (results.rows[i][results.column("cell")] == "endless" &&
+        results.rows[i][results.column("controller")] == "paper") {
+      EXPECT_EQ(stalled, 1.0) << "seed 7 under paper no longer jams; the test needs another seed";
+    }
+  }
   const auto page = figures_of(dir + "/out/report.html");
   for (const char* id : {"error", "J-relative"}) {
     const auto fig = figure(page, id);
