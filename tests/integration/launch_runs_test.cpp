@@ -311,9 +311,9 @@ TEST(LaunchRuns, AnEndlessQueueStartsAgentsAsRobotsJoinAndGivesTheInProcessTraje
 }
 
 // summary.json's `retreats` says how long robots took to drive out, and which have not got out by
-// the end. steady-influx seed 7 (in process, 3 s) is a run where retreating robots jam: from
-// about 1,000 s on, a crowd of them near the boundary holds itself still under the barrier
-// certificates, and more join it (docs/experiments.md, "Retreats that never end"). The summary
+// the end. steady-influx seed 7 (in process, 3 s) is a run where retreating robots jam: a robot
+// that began retreating at about 97 s never leaves, and a crowd that gathers behind it near the
+// boundary holds itself still under the barrier certificates (docs/experiments.md, "Retreats that never end"). The summary
 // must agree with what transitions.csv records tick by tick, recounted here on its own.
 TEST(LaunchRuns, TheSummaryReportsRetreatsCompletedAndStillUnderWayAsTheTransitionsRecordThem) {
   const auto dir = fresh_dir("retreats-under-way");
