@@ -10,6 +10,7 @@
 
 #include "retreat/core/paths.hpp"
 #include "retreat/scenario/program_options.hpp"
+#include "retreat/scenario/scenario.hpp"
 
 namespace retreat::experiment {
 namespace {
@@ -234,12 +235,27 @@ struct SeedsLine {
                     "registered rules to compare, comma-separated (default: every one; paper always runs, "
                     "as the reference)")
         ->delimiter(',');
+    if constexpr (requires { o.overrides; }) {
+      sub->add_option("--set", o.overrides,
+                      "override a value of both queues' scenarios for every rule, section.key=value (repeatable), "
+                      "e.g. arena.retreat_unblock=true");
+    }
   }
   Options finish() {
     finish_common(o.common, name);
     if (!seeds.empty()) o.seeds = parse_seed_range(seeds, "--seeds");
     check_controllers(controllers);
     o.common.controllers = controllers;
+    if constexpr (requires { o.overrides; }) {
+      // Each must make both scenarios valid, as the launcher will check: refused here in one line.
+      for (const auto& c : queue_cases(o.common)) {
+        try {
+          scenario::load(c.file, o.overrides);
+        } catch (const scenario::ConfigError& e) {
+          throw UsageError(std::string("--set: ") + e.what());
+        }
+      }
+    }
     require_launcher(o.common);
     return o;
   }

@@ -394,6 +394,30 @@ TEST(LaunchRuns, TheSummaryReportsRetreatsCompletedAndStillUnderWayAsTheTransiti
   EXPECT_GT(r["longest_under_way_seconds"].get<double>(), 1200.0);
 }
 
+// arena.retreat_unblock (not the paper's; random_walk.hpp, RetreatDetour): a retreating robot held
+// below v/2 for arena.unblock_time leaves along a detour within 90° of its outward normal. On the
+// seed whose retreats jam (above) no retreat is left stalled: every one that ended took less than
+// the minute after which docs/experiments.md calls a retreat stalled, none is under way for longer
+// at the end, and the swarm, no longer blocked near the boundary, delivers more.
+TEST(LaunchRuns, RetreatUnblockLeavesNoRetreatStalledOnTheSeedThatJams) {
+  const auto jammed = fresh_dir("retreat-unblock-off");
+  ASSERT_EQ(run_launch(jammed, {scenarios + "/steady-influx.yaml", "--in-process", "--seed", "7"}), 0) << log_of(jammed);
+  const auto unblocked = fresh_dir("retreat-unblock-on");
+  ASSERT_EQ(run_launch(unblocked, {scenarios + "/steady-influx.yaml", "--in-process", "--seed", "7", "--set",
+                                   "arena.retreat_unblock=true"}),
+            0) << log_of(unblocked);
+  const auto off = read_json(jammed + "/run/summary.json");
+  const auto on = read_json(unblocked + "/run/summary.json");
+  ASSERT_TRUE(off.contains("retreats") && on.contains("retreats")) << on.dump();
+  const double stalled_after = 60.0;  // experiment::stalled_retreat_after
+  ASSERT_GT(off["retreats"]["longest_under_way_seconds"].get<double>(), stalled_after) << "seed 7 no longer jams";
+  EXPECT_GT(on["retreats"]["completed"].get<int>(), 200);
+  EXPECT_LT(on["retreats"]["longest_completed_seconds"].get<double>(), stalled_after);
+  EXPECT_LT(on["retreats"]["longest_under_way_seconds"].get<double>(), stalled_after);
+  EXPECT_GT(on["deliveries"].get<int>(), off["deliveries"].get<int>());
+  EXPECT_NE(on["trajectory_sha256"], off["trajectory_sha256"]);
+}
+
 TEST(LaunchRuns, RealTimeModePassesThrough) {
   const std::string vendor = built("cyclonedds") ? "cyclonedds" : "fastdds";
   const auto dir = fresh_dir("realtime");

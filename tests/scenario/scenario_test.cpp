@@ -135,8 +135,8 @@ TEST(ScenarioKeys, TheKeysAreTheSerializedMembersInFileOrder) {
   // (issue 14); 56 with arena.external_robots, external_frozen_after, external_lost_after and
   // external_max_speed (issue 15); 58 with run.plans and run.plan_horizon (issue 13); 59 with
   // run.recorders (issue 16); 60 with run.agent_hang_timeout (issue 13); 61 with dds.domains
-  // (issue 13).
-  ASSERT_EQ(keys.size(), 61u);
+  // (issue 13); 62 with arena.retreat_unblock.
+  ASSERT_EQ(keys.size(), 62u);
   EXPECT_EQ(keys.front(), "name");
   EXPECT_EQ(keys[2], "model.lambda_p");
   EXPECT_EQ(keys[15], "arena.encounter_model");

@@ -1,8 +1,31 @@
 #include "retreat/physics/random_walk.hpp"
 
 #include <cmath>
+#include <numbers>
 
 namespace retreat::physics {
+
+namespace {
+
+/// The stall clock of the unblock rules: @p blocked_since is when the current stall began (−1
+/// while @p progressing). True once a stall has lasted @p unblock_time; the clock then restarts.
+bool stall_over(double& blocked_since, bool progressing, double now, double unblock_time) {
+  if (progressing) {
+    blocked_since = -1.0;
+    return false;
+  }
+  if (blocked_since < 0.0) {
+    blocked_since = now;
+    return false;
+  }
+  if (now - blocked_since < unblock_time) {
+    return false;
+  }
+  blocked_since = -1.0;
+  return true;
+}
+
+}  // namespace
 
 WalkState start_walk(const Vec2& direction, double now, double tumble_rate, Rng& rng) {
   WalkState walk;
@@ -24,20 +47,24 @@ bool apply_tumbles(WalkState& walk, double now, double tumble_rate, Rng& rng) {
 
 bool unblock_if_stalled(WalkState& walk, const Vec2& u, double speed, double now,
                         double unblock_time, Rng& rng) {
-  if (u.dot(walk.direction) >= 0.5 * speed) {
-    walk.blocked_since = -1.0;
-    return false;
-  }
-  if (walk.blocked_since < 0.0) {
-    walk.blocked_since = now;
-    return false;
-  }
-  if (now - walk.blocked_since < unblock_time) {
+  if (!stall_over(walk.blocked_since, u.dot(walk.direction) >= 0.5 * speed, now, unblock_time)) {
     return false;
   }
   const double angle = rng.angle();
   walk.direction = Vec2(std::cos(angle), std::sin(angle));
-  walk.blocked_since = -1.0;
+  return true;
+}
+
+bool detour_if_stalled(RetreatDetour& detour, const Vec2& u, const Vec2& outward_normal,
+                       double speed, double now, double unblock_time, Rng& rng) {
+  if (!stall_over(detour.blocked_since, u.dot(retreat_direction(detour, outward_normal)) >= 0.5 * speed, now,
+                  unblock_time)) {
+    return false;
+  }
+  const double angle = std::atan2(outward_normal.y(), outward_normal.x()) +
+                       rng.uniform(-0.5 * std::numbers::pi, 0.5 * std::numbers::pi);
+  detour.direction = Vec2(std::cos(angle), std::sin(angle));
+  detour.active = true;
   return true;
 }
 

@@ -94,7 +94,10 @@ bool PhysicalWorld::lose_external(RobotId id) {
   return true;
 }
 
-void PhysicalWorld::on_retreat(RobotId id) { bodies_[id].entering = false; }
+void PhysicalWorld::on_retreat(RobotId id) {
+  bodies_[id].entering = false;
+  bodies_[id].detour = {};
+}
 
 void PhysicalWorld::step_tick() {
   for (std::int64_t k = 0; k < substeps_; ++k) {
@@ -266,8 +269,9 @@ void PhysicalWorld::sense(bool initial) {
 
     // Desired velocity of the projected point.
     Vec2 u_hat;
-    if (stats.phase == Phase::retreating) {
-      u_hat = params_.v * boundary_at(body, self.p).outward_normal;
+    const bool retreating = stats.phase == Phase::retreating;
+    if (retreating) {
+      u_hat = params_.v * retreat_direction(body.detour, boundary_at(body, self.p).outward_normal);
     } else if (body.entering) {
       u_hat = params_.v * body.entry_direction;
     } else {
@@ -295,6 +299,9 @@ void PhysicalWorld::sense(bool initial) {
     body.command = barrier_.to_command(self, result.u);
     if (stats.phase == Phase::inside && !body.entering) {
       unblock_if_stalled(body.walk, result.u, params_.v, time_, params_.unblock_time, body.rng);
+    } else if (retreating && params_.retreat_unblock) {
+      detour_if_stalled(body.detour, result.u, boundary_at(body, self.p).outward_normal, params_.v, time_,
+                        params_.unblock_time, body.rng);
     }
   }
 }

@@ -38,6 +38,7 @@ class PhysicalWorld final : public WorldBase {
   struct Body {
     Pose pose;
     WalkState walk;
+    RetreatDetour detour;  ///< how it leaves once it retreats (arena.retreat_unblock)
     Vec2 entry_direction = Vec2::UnitX();
     UnicycleCommand command;
     Rng rng;

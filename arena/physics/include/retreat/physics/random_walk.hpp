@@ -60,6 +60,33 @@ bool apply_tumbles(WalkState& walk, double now, double tumble_rate, Rng& rng);
 bool unblock_if_stalled(WalkState& walk, const Vec2& u, double speed, double now,
                         double unblock_time, Rng& rng);
 
+/// How a retreating robot leaves D (arena.retreat_unblock): along the outward normal of its
+/// nearest boundary point, or, once it has been held below v/2 along that for unblock_time, along
+/// a fixed detour drawn uniformly within 90° of the normal where it stalled (and again if it
+/// stalls on the detour). Any fixed direction leaves a bounded convex D; one with an outward
+/// component does so near where the robot stands.
+///
+/// Why (docs/experiments.md, "Retreats that never end"): retreating robots that meet near the
+/// boundary each want to move along their own outward normal, the ones ahead are in the way, and
+/// the barrier certificates leave every one of them a feasible velocity of zero; nothing else in
+/// the model moves them.
+struct RetreatDetour {
+  bool active = false;              ///< the robot follows `direction`, not the normal
+  Vec2 direction = Vec2::UnitX();   ///< unit vector
+  double blocked_since = -1.0;      ///< start of the current stall, −1 if progressing [s]
+};
+
+/// The unit direction a retreating robot wants to move its projected point in.
+inline Vec2 retreat_direction(const RetreatDetour& detour, const Vec2& outward_normal) {
+  return detour.active ? detour.direction : outward_normal;
+}
+
+/// Records the barrier-filtered velocity @p u at time @p now: if its component along
+/// retreat_direction stays below @p speed / 2 for @p unblock_time, draws a detour uniformly within
+/// 90° of @p outward_normal. Returns true if it drew one.
+bool detour_if_stalled(RetreatDetour& detour, const Vec2& u, const Vec2& outward_normal,
+                       double speed, double now, double unblock_time, Rng& rng);
+
 /// Mirrors the direction about the unit @p outward_normal if it points outwards
 /// (d ← d − 2(dᵀn)n). Returns true if it reflected.
 bool reflect_if_outward(WalkState& walk, const Vec2& outward_normal);
