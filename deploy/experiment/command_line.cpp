@@ -235,25 +235,21 @@ struct SeedsLine {
                     "registered rules to compare, comma-separated (default: every one; paper always runs, "
                     "as the reference)")
         ->delimiter(',');
-    if constexpr (requires { o.overrides; }) {
-      sub->add_option("--set", o.overrides,
-                      "override a value of both queues' scenarios for every rule, section.key=value (repeatable), "
-                      "e.g. arena.retreat_unblock=true");
-    }
+    sub->add_option("--set", o.common.overrides,
+                    "override a value of every run's scenario, section.key=value (repeatable; the subcommand's "
+                    "own values, e.g. a sweep's cell, come after it), e.g. arena.retreat_unblock=true");
   }
   Options finish() {
     finish_common(o.common, name);
     if (!seeds.empty()) o.seeds = parse_seed_range(seeds, "--seeds");
     check_controllers(controllers);
     o.common.controllers = controllers;
-    if constexpr (requires { o.overrides; }) {
-      // Each must make both scenarios valid, as the launcher will check: refused here in one line.
-      for (const auto& c : queue_cases(o.common)) {
-        try {
-          scenario::load(c.file, o.overrides);
-        } catch (const scenario::ConfigError& e) {
-          throw UsageError(std::string("--set: ") + e.what());
-        }
+    // Each must make both queues' scenarios valid, as the launcher will check: refused here.
+    for (const auto& c : queue_cases(o.common)) {
+      try {
+        scenario::load(c.file, o.common.overrides);
+      } catch (const scenario::ConfigError& e) {
+        throw UsageError(std::string("--set: ") + e.what());
       }
     }
     require_launcher(o.common);

@@ -114,6 +114,12 @@ void check_controllers(const std::vector<std::string>& names) {
   }
 }
 
+std::string with_overrides(const std::vector<std::string>& overrides) {
+  std::string text;
+  for (const auto& o : overrides) text += (text.empty() ? ", scenarios with --set " : ", ") + o;
+  return text;
+}
+
 std::vector<QueueCase> queue_cases(const Common& common) {
   return {{"finite", "finite queue (robotarium-2019)", scenario_file(common, "robotarium-2019.yaml")},
           {"endless", "endless queue (steady-influx)", scenario_file(common, "steady-influx.yaml")}};

@@ -64,7 +64,7 @@ std::vector<Ensemble> run_case(const ControllersOptions& o, const QueueCase& c, 
   std::vector<Ensemble> ensembles;
   for (const auto& name : controllers) {
     const std::string dir = o.common.out_dir + "/runs/" + c.name + "/" + name;
-    LaunchRequest r{c.file, o.overrides, seeds, true, "", {}, dir, dir + ".log", o.common.jobs};
+    LaunchRequest r{c.file, o.common.overrides, seeds, true, "", {}, dir, dir + ".log", o.common.jobs};
     r.overrides.push_back("agent.controller=" + name);
     if (o.common.quick && c.name == "endless") r.overrides.emplace_back("run.duration=" + fixed(quick_endless, 0));
     ensembles.push_back(run_ensemble(o.common.launcher, c.name + "-" + name, name, r, C));
@@ -162,13 +162,6 @@ void add_case_figures(nlohmann::json& figures, const QueueCase& c, const std::ve
 }
 
 /// results.md: a note, then the table.
-/// ", scenarios with --set a=b, c=d" for the overrides every run had, or nothing.
-std::string with_overrides(const std::vector<std::string>& overrides) {
-  std::string text;
-  for (const auto& o : overrides) text += (text.empty() ? ", scenarios with --set " : ", ") + o;
-  return text;
-}
-
 void write_markdown(const std::string& out, const SeedRange& seeds, const std::vector<std::string>& overrides,
                     std::uint32_t by_robot_runs, const std::string& markdown) {
   write_text(out + "/results.md", "Seeds " + seeds.text() + ", in-process, physical world" + with_overrides(overrides) + ". J = C/output + λ̄ (MODEL.md §4) from the measured "
@@ -223,7 +216,7 @@ int run_controllers(const ControllersOptions& o) {
   if (o.common.quick) t.by_robot_runs = 20;
   t.jobs = worker_count(o.common.jobs);
   for (const auto& c : cases) {
-    const auto s = scenario::load(c.file, o.overrides);
+    const auto s = scenario::load(c.file, o.common.overrides);
     const auto ensembles = run_case(o, c, seeds, controllers, s.model.C);
     for (const auto& e : ensembles) tabulate(t, c, e, s);
     add_case_figures(t.figures, c, ensembles, seeds);
@@ -232,8 +225,8 @@ int run_controllers(const ControllersOptions& o) {
   t.results_csv.close();
   t.population.close();
   write_json(out + "/results.json", t.results);
-  write_markdown(out, seeds, o.overrides, t.by_robot_runs, t.markdown);
-  write_page(out, seeds, o.overrides, controllers, t);
+  write_markdown(out, seeds, o.common.overrides, t.by_robot_runs, t.markdown);
+  write_page(out, seeds, o.common.overrides, controllers, t);
   std::fprintf(stderr, "retreat-experiment: controllers: %s/results.md, %s/report.html\n", out.c_str(), out.c_str());
   return 0;
 }

@@ -70,17 +70,18 @@ int run_noise(const NoiseOptions& o) {
 
   std::vector<Row> rows;
   for (const auto& c : cases) {
-    const auto s = scenario::load(c.file);
+    const auto s = scenario::load(c.file, o.common.overrides);
     for (const auto& noise : noises()) {
       for (const auto& rule : rules) {
         for (const bool corrected : {false, true}) {
           if (corrected && (!corrects(rule) || noise.name == "perfect")) continue;
           const std::string label = rule + (corrected ? " corrected" : "");
           const std::string dir = out + "/runs/" + c.name + "/" + noise.name + "/" + rule + (corrected ? "-corrected" : "");
-          LaunchRequest r{c.file,
-                          {"agent.controller=" + rule, "arena.encounter_model=kinetic",
-                           "arena.missed_onsets=" + fixed(noise.missed, 2), "arena.false_onsets=" + fixed(noise.false_rate, 2)},
-                          seeds, true, "", {}, dir, dir + ".log", o.common.jobs};
+          LaunchRequest r{c.file, o.common.overrides, seeds, true, "", {}, dir, dir + ".log", o.common.jobs};
+          r.overrides.insert(r.overrides.end(),
+                             {"agent.controller=" + rule, "arena.encounter_model=kinetic",
+                              "arena.missed_onsets=" + fixed(noise.missed, 2),
+                              "arena.false_onsets=" + fixed(noise.false_rate, 2)});
           if (corrected) {
             r.overrides.push_back("agent.missed_onsets=" + fixed(noise.missed, 2));
             r.overrides.push_back("agent.false_onsets=" + fixed(noise.false_rate, 2));
@@ -116,8 +117,8 @@ int run_noise(const NoiseOptions& o) {
   write_json(out + "/results.json", results);
 
   // results.md and the page's tables: per scenario, a rule per row and a sensor per column.
-  std::string md = "Seeds " + seeds.text() +
-                   ", in-process, kinetic world. Each cell: the mean over seeds of the robots inside D over the last "
+  std::string md = "Seeds " + seeds.text() + ", in-process, kinetic world" + with_overrides(o.common.overrides) +
+                   ". Each cell: the mean over seeds of the robots inside D over the last "
                    "half of the run (± sd over seeds). \"corrected\": the rule told the sensor's true rates.\n";
   nlohmann::json tables = nlohmann::json::array(), figures = nlohmann::json::array();
   for (const auto& c : cases) {
@@ -182,7 +183,8 @@ int run_noise(const NoiseOptions& o) {
   write_text(out + "/results.md", md);
   nlohmann::json page = {
       {"title", "retreat experiment: sensing noise"},
-      {"subtitle", "Every registered rule with missed and false onsets, seeds " + seeds.text() + ", in-process, kinetic world"},
+      {"subtitle", "Every registered rule with missed and false onsets, seeds " + seeds.text() +
+                       ", in-process, kinetic world" + with_overrides(o.common.overrides)},
       {"sections", {{{"heading", "Population over the last half"},
                      {"text", {"Each rule on robots whose sensors miss each encounter onset with a chance "
                                "(arena.missed_onsets) or report false onsets at a rate (arena.false_onsets). "

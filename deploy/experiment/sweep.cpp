@@ -95,7 +95,9 @@ int run_sweep(const SweepOptions& o) {
   nlohmann::json json_rows = nlohmann::json::array();
   for (const auto& cell : cells()) {
     const std::string& file = queues[cell.endless ? 1 : 0].file;
-    auto overrides = cell.overrides;
+    // The cell's values after the user's --set: a cell is what the sweep varies.
+    auto overrides = o.common.overrides;
+    overrides.insert(overrides.end(), cell.overrides.begin(), cell.overrides.end());
     if (o.common.quick) overrides.push_back("run.duration=" + fixed(quick_duration, 0));
     // C for J: the scenario with the cell's overrides (C itself is never swept).
     const double C = scenario::load(file, overrides).model.C;
@@ -190,15 +192,15 @@ int run_sweep(const SweepOptions& o) {
               "Each cell: J (pooled over seeds) of the rule over paper's on the same seeds; below 1 the rule does "
               "better. –: a J without deliveries.",
               j_values, j_text, 0.8, 1.2)};
-  write_text(out + "/results.md", "Seeds " + seeds.text() +
-                                      ", in-process. Population over the last half (mean over seeds) and "
+  write_text(out + "/results.md", "Seeds " + seeds.text() + ", in-process" + with_overrides(o.common.overrides) +
+                                      ". Population over the last half (mean over seeds) and "
                                       "|mean − N*|/N*:\n\n" +
                                       md_error + "\nJ over the last half (pooled over seeds) relative to paper's:\n\n" +
                                       md_j);
   nlohmann::json page = {
       {"title", "retreat experiment: sweep"},
       {"subtitle", "Every registered rule on " + std::to_string(cells().size()) + " scenarios, seeds " + seeds.text() +
-                       ", in-process"},
+                       ", in-process" + with_overrides(o.common.overrides)},
       {"sections", {{{"heading", "Where each rule lands against the optimum"},
                      {"text", {"Cells around the shipped robotarium-2019 (finite queue) and steady-influx (endless "
                                "queue) scenarios; each changes one thing (results.json lists the overrides)."}},

@@ -351,8 +351,16 @@ TEST(Experiment, ControllersSetOverridesEveryRunOfBothQueues) {
 
 TEST(Experiment, NoiseQuickRunGivesEveryRuleOnEverySensorAndTheCorrectedRules) {
   const auto dir = fresh_dir("noise");
-  const auto [code, output] = run(dir, {"noise", "--quick", "--seeds", "1:1", "--out", dir + "/out"});
+  // --set reaches every run: arena.retreat_unblock is of the physical world, so these kinetic runs
+  // are as without it, and their scenarios say it.
+  const auto [code, output] =
+      run(dir, {"noise", "--quick", "--seeds", "1:1", "--set", "arena.retreat_unblock=true", "--out", dir + "/out"});
   ASSERT_EQ(code, 0) << output;
+  EXPECT_NE(retreat::testing::read_file(dir + "/out/runs/endless/false-0.05/paper/seed_1/scenario.yaml")
+                .find("retreat_unblock: true"),
+            std::string::npos);
+  EXPECT_NE(retreat::testing::read_file(dir + "/out/results.md").find("kinetic world, scenarios with --set arena.retreat_unblock=true."),
+            std::string::npos);
   const auto names = retreat::agent::controller_names();
   const auto results = read_csv(dir + "/out/results.csv");
   expect_columns(results, {"scenario", "noise", "missed_onsets", "false_onsets", "controller", "corrected", "seeds",
@@ -392,8 +400,14 @@ TEST(Experiment, NoiseQuickRunGivesEveryRuleOnEverySensorAndTheCorrectedRules) {
 TEST(Experiment, SweepQuickRunPutsEveryRuleOnEveryCellWithItsHeatMaps) {
   const auto dir = fresh_dir("sweep");
   // Seed 7: retreating robots jam in the endless cell (docs/experiments.md), stalled_seeds counts it.
-  const auto [code, output] = run(dir, {"sweep", "--quick", "--seeds", "7:7", "--out", dir + "/out"});
+  // --set reaches every cell's runs (run.agent_timeout: of agent processes, none here).
+  const auto [code, output] =
+      run(dir, {"sweep", "--quick", "--seeds", "7:7", "--set", "run.agent_timeout=6", "--out", dir + "/out"});
   ASSERT_EQ(code, 0) << output;
+  EXPECT_NE(retreat::testing::read_file(dir + "/out/runs/endless/paper/seed_7/scenario.yaml").find("agent_timeout: 6"),
+            std::string::npos);
+  EXPECT_NE(retreat::testing::read_file(dir + "/out/results.md").find("in-process, scenarios with --set run.agent_timeout=6."),
+            std::string::npos);
   const auto names = retreat::agent::controller_names();
   const auto results = read_csv(dir + "/out/results.csv");
   expect_columns(results, {"cell", "queue", "controller", "seeds", "optimum", "mean_population_last_half",
@@ -482,6 +496,8 @@ INSTANTIATE_TEST_SUITE_P(
                  "arena.no_such_key"},
         BadInput{"set_bad_value", {"controllers", "--set", "arena.retreat_unblock=maybe", "--out", "/nonexistent/out"},
                  "maybe"},
+        BadInput{"sweep_set_bad_value", {"sweep", "--set", "arena.gamma=-1", "--out", "/nonexistent/out"},
+                 "arena.gamma"},
         BadInput{"controller_twice", {"noise", "--controllers", "confident,confident", "--out", "/nonexistent/out"},
                  "confident,confident"}),
     [](const auto& param_info) { return param_info.param.name; });

@@ -41,7 +41,12 @@ struct Common {
                                  ///< the launcher's default, the core count
   std::vector<std::string> controllers;  ///< --controllers (controllers, noise, sweep): the rules
                                          ///< asked for, registered names; empty: every one
+  std::vector<std::string> overrides;    ///< --set (controllers, noise, sweep): `section.key=value`
+                                         ///< on every run, before the subcommand's own
 };
+
+/// ", scenarios with --set a=b, c=d" for the overrides every run had (Common::overrides), or "".
+std::string with_overrides(const std::vector<std::string>& overrides);
 
 /// The threads the experiment's own work uses (reading runs, predictions): `jobs` (--jobs), or
 /// the core count when it is not given (the launcher's default too).

@@ -50,7 +50,6 @@ int run_robotarium(const RobotariumOptions& options);
 struct ControllersOptions {
   Common common;
   std::optional<SeedRange> seeds;  ///< default 1:100 (quick 1:3, and the endless queue 1,200 s)
-  std::vector<std::string> overrides;  ///< --set: `section.key=value` on both queues' scenarios, every rule
 };
 int run_controllers(const ControllersOptions& options);
 
