@@ -85,9 +85,10 @@ struct WorldParams {
   double boundary_gain = 30.0;        ///< α in the boundary barrier nᵀu ≤ α·clearance [1/s]
   double tumble_rate = 0.02;          ///< random-walk re-orientation rate [1/s] (runs ≫ 2δ)
   double unblock_time = 2.0;       ///< a walker held below v/2 this long re-orients [s] (≈ 2δ/v)
-  /// Not the paper's: a retreating robot held below v/2 for unblock_time leaves along a random
-  /// direction within 90° of its outward normal instead (random_walk.hpp, RetreatDetour). Off:
-  /// it drives along the outward normal of its nearest boundary point until it is out.
+  /// An option beside the reference, off in every shipped scenario: a retreating robot held below
+  /// v/2 for unblock_time leaves along a random direction within 90° of its outward normal
+  /// instead (random_walk.hpp, RetreatDetour). Off (the reference): it drives along the outward
+  /// normal of its nearest boundary point until it is out.
   bool retreat_unblock = false;
   bool record_encounters = false;  ///< keep per-pair and per-robot contact intervals
   double missed_onsets = 0.0;  ///< each robot's sensor misses each encounter onset with this chance [-]
