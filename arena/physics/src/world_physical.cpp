@@ -270,8 +270,10 @@ void PhysicalWorld::sense(bool initial) {
     // Desired velocity of the projected point.
     Vec2 u_hat;
     const bool retreating = stats.phase == Phase::retreating;
+    Vec2 outward = Vec2::Zero();  // a retreating robot's: at its nearest boundary point
     if (retreating) {
-      u_hat = params_.v * retreat_direction(body.detour, boundary_at(body, self.p).outward_normal);
+      outward = boundary_at(body, self.p).outward_normal;
+      u_hat = params_.v * retreat_direction(body.detour, outward);
     } else if (body.entering) {
       u_hat = params_.v * body.entry_direction;
     } else {
@@ -300,8 +302,7 @@ void PhysicalWorld::sense(bool initial) {
     if (stats.phase == Phase::inside && !body.entering) {
       unblock_if_stalled(body.walk, result.u, params_.v, time_, params_.unblock_time, body.rng);
     } else if (retreating && params_.retreat_unblock) {
-      detour_if_stalled(body.detour, result.u, boundary_at(body, self.p).outward_normal, params_.v, time_,
-                        params_.unblock_time, body.rng);
+      detour_if_stalled(body.detour, result.u, outward, params_.v, time_, params_.unblock_time, body.rng);
     }
   }
 }

@@ -211,15 +211,14 @@ TEST(PhysicsRetreatDetour, AStalledRetreatTurnsAfterTheUnblockTimeAndProgressRes
   EXPECT_NEAR(d.direction.norm(), 1.0, 1e-12);
   EXPECT_GE(d.direction.dot(normal), 0.0);
   EXPECT_EQ(retreat_direction(d, normal), d.direction);
-  // Progress is measured along the detour now: v/2 along it keeps it, the same along the old
-  // normal (when that is not along the detour) starts a stall.
-  const Vec2 detour = d.direction;
-  EXPECT_FALSE(detour_if_stalled(d, 0.05 * detour, normal, 0.1, 4.0, 2.0, rng));
+  // Progress is measured along the detour now: v/2 along it keeps it going.
+  EXPECT_FALSE(detour_if_stalled(d, 0.05 * d.direction, normal, 0.1, 4.0, 2.0, rng));
   EXPECT_DOUBLE_EQ(d.blocked_since, -1.0);
-  if (detour.dot(normal) < 0.9) {
-    EXPECT_FALSE(detour_if_stalled(d, 0.05 * normal, normal, 0.1, 5.0, 2.0, rng));
-    EXPECT_DOUBLE_EQ(d.blocked_since, 5.0);
-  }
+  // v/2 along the normal is not progress on a detour 80° away from it (0.05·cos 80° < 0.05).
+  const double turned = std::atan2(normal.y(), normal.x()) + 80.0 * std::numbers::pi / 180.0;
+  RetreatDetour sideways{true, Vec2(std::cos(turned), std::sin(turned)), -1.0};
+  EXPECT_FALSE(detour_if_stalled(sideways, 0.05 * normal, normal, 0.1, 5.0, 2.0, rng));
+  EXPECT_DOUBLE_EQ(sideways.blocked_since, 5.0);
 }
 
 // The detours are uniform within a quarter turn of the normal: never beyond it, on both sides.
