@@ -20,7 +20,7 @@ std::variant<LaunchCommandLine, int> parse_command_line(int argc, char** argv,
   std::uint64_t seed = 0;
   app.add_option("--out", o.out_dir, "run directory (default: runs/<timestamp>)");
   auto* seed_opt = app.add_option("--seed", seed, "scenario seed (overrides the file's)");
-  app.add_option("--seeds", o.seeds, "run seeds A..B (inclusive) into OUT/seed_<n>/");
+  app.add_option("--seeds", o.seeds, "run seeds A:B (inclusive, e.g. 1:100) into OUT/seed_<n>/");
   app.add_flag("--no-bridge", o.no_bridge, "do not start retreat-bridge");
   app.add_flag("--in-process", o.in_process,
                "arena and agents in this process over the in-memory transport (lockstep)");
