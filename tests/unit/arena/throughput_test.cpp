@@ -16,12 +16,15 @@ constexpr std::uint32_t robots = 200;
 constexpr double warm_up = 250.0;    // s: two delivery cycles (1/Ω_p + 1/Ω_d ≈ 124 s)
 constexpr double duration = 2500.0;  // s
 constexpr double lambda_fit = 0.99;  // where ρ is fitted, as in the paper
+constexpr double lambda_beyond = 4.0;  // past the CTMC's range of validity (below)
 
 struct Point {
   double output = 0.0;  // deliveries per second per m² (T(λ)·λ measured)
   double deliveries = 0.0;
   double rho_robot = 0.0;  // 1 / mean robot-level contact duration
   double rho_pair = 0.0;
+  double free_fraction = 0.0;  // the share of robot-time with no robot within 2δ
+  double contact_load = 0.0;   // x = Ω_c/ρ_pair: pair contacts open per robot, on average
 };
 
 /// One run per density, cached within the process. v = 0.1 exactly as in the paper; the world is
@@ -33,7 +36,7 @@ const Point& simulate(double lambda) {
     return found->second;
   }
   WorldParams p = testing::throughput_curve(robots, lambda);
-  p.record_encounters = lambda == lambda_fit;
+  p.record_encounters = lambda == lambda_fit || lambda == lambda_beyond;  // bookkeeping only
   auto world = make_world(p);
   for (long k = 0; k < std::lround(warm_up / p.tick_dt); ++k) {
     world->step_tick();
@@ -61,6 +64,9 @@ const Point& simulate(double lambda) {
   point.output = point.deliveries / (duration * p.width * p.height);
   point.rho_robot = robot_n / robot_sum;
   point.rho_pair = pair_n / pair_sum;
+  const double robot_time = robots * duration;
+  point.free_fraction = 1.0 - robot_sum / robot_time;
+  point.contact_load = 2.0 * pair_sum / robot_time;  // each pair contact holds two robots
   return cache[lambda] = point;
 }
 
@@ -101,29 +107,50 @@ TEST_P(PhysicsThroughput, SimulatedOutputIsWithinTwentyPercentOfTheCtmcCurve) {
 INSTANTIATE_TEST_SUITE_P(PaperDensities, PhysicsThroughput,
                          ::testing::Values(0.25, 0.5, 0.99, 2.0));
 
-// λ = 4: the physics disagrees with the CTMC by more than 20 % (measured ratio 0.77 with the
-// robot-level ρ fitted at λ = 0.99, 0.74 with the pair-level one), and the tolerance is not
-// widened. Cause: at λ = 4 the 2δ-discs cover 15 % of D and a robot's pair contacts overlap;
-// they behave as independent intervals (M/G/∞), so a robot is free a fraction e^(−x) of the
-// time (x = Ω_c/ρ_pair; measured 0.466, e^(−x) = 0.478), while the CTMC, which admits one
-// encounter at a time, gives 1/(1 + x) = 0.56. Equivalently the robot-level ρ falls with λ
-// (2.6 at λ = 0.99, 1.8 at λ = 4, v = 1), which a constant-ρ CTMC cannot follow. Run it with
-// --gtest_also_run_disabled_tests.
-INSTANTIATE_TEST_SUITE_P(DISABLED_BeyondTheCtmcsRangeOfValidity, PhysicsThroughput,
-                         ::testing::Values(4.0));
+// λ = 4 is past the CTMC's range of validity, and this test holds the known disagreement and its
+// cause, so that a change in either shows. At λ = 4 the 2δ-discs cover 15 % of D and a robot's
+// pair contacts overlap: they behave as independent intervals (M/G/∞), so a robot is free a
+// fraction e^(−x) of the time (x = Ω_c/ρ_pair, the pair contacts open per robot on average),
+// while the CTMC, which admits one encounter at a time, gives 1/(1 + x). Equivalently the
+// robot-level ρ falls with λ (2.6 at λ = 0.99, 1.8 at λ = 4, v = 1), which a constant-ρ CTMC
+// cannot follow, and the simulated output falls short of the CTMC's (measured ratio 0.77 with the
+// robot-level ρ fitted at λ = 0.99). Tolerances: the output ratio has a relative sd ≤ 3 % (as
+// above), so (0.6, 0.9) around 0.77 is > 4 sd either side; the free fraction averages 200 robots
+// over 2,500 s with contacts of about 4 s (sd well under 0.01), and the two predictions differ by
+// about 0.1 here (measured 0.468; e^(−x) 0.480, 1/(1 + x) 0.577), so "within 0.03 of e^(−x) and
+// nearer to it than to 1/(1 + x)" is several sd from either side. The ratio's bounds say only
+// that the CTMC overestimates (at λ = 2 the ratio is 0.85, inside the 20 % above); the free
+// fraction is what tells the two regimes apart.
+TEST(PhysicsThroughputBeyondTheCtmc, AtFourPerSquareMetreOverlappingContactsPutTheOutputBelowTheCtmc) {
+  const Point& fit = simulate(lambda_fit);
+  const Point& beyond = simulate(lambda_beyond);
+  const WorldParams p = testing::throughput_curve(robots, lambda_beyond);
+  const double ratio = beyond.output / ctmc_output(p, lambda_beyond, fit.rho_robot);
+  const double independent = std::exp(-beyond.contact_load);
+  const double one_at_a_time = 1.0 / (1.0 + beyond.contact_load);
+  RecordProperty("ratio", std::to_string(ratio));
+  RecordProperty("free_fraction", std::to_string(beyond.free_fraction));
+  RecordProperty("free_fraction_independent_contacts", std::to_string(independent));
+  RecordProperty("free_fraction_one_at_a_time", std::to_string(one_at_a_time));
+  ASSERT_GT(beyond.deliveries, 1500.0);
+  EXPECT_GT(ratio, 0.6);
+  EXPECT_LT(ratio, 0.9) << "the CTMC's curve no longer overestimates the output at λ = 4";
+  EXPECT_NEAR(beyond.free_fraction, independent, 0.03);
+  EXPECT_LT(std::abs(beyond.free_fraction - independent), std::abs(beyond.free_fraction - one_at_a_time));
+}
 
 TEST(PhysicsThroughputCurve, OutputGrowsSubLinearlyFromTwoToFourRobotsPerSquareMetre) {
   // The paper's qualitative claim (Fig. 3): T(λ)λ still grows, but less than proportionally.
   // Both margins are > 10 sd of the ratio (relative sd of each output ≤ 3 %).
   const Point& two = simulate(2.0);
-  const Point& four = simulate(4.0);
-  const WorldParams p = testing::throughput_curve(robots, 4.0);
+  const Point& four = simulate(lambda_beyond);
+  const WorldParams p = testing::throughput_curve(robots, lambda_beyond);
   RecordProperty("output_lambda_2", std::to_string(two.output));
   RecordProperty("output_lambda_4", std::to_string(four.output));
   RecordProperty("ctmc_output_lambda_4",
-                 std::to_string(ctmc_output(p, 4.0, simulate(lambda_fit).rho_robot)));
+                 std::to_string(ctmc_output(p, lambda_beyond, simulate(lambda_fit).rho_robot)));
   RecordProperty("ratio_lambda_4",
-                 std::to_string(four.output / ctmc_output(p, 4.0, simulate(lambda_fit).rho_robot)));
+                 std::to_string(four.output / ctmc_output(p, lambda_beyond, simulate(lambda_fit).rho_robot)));
   EXPECT_GT(four.output, 1.1 * two.output);
   EXPECT_LT(four.output, 1.7 * two.output);
 }
