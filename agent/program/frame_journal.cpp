@@ -5,10 +5,10 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 #include <stdexcept>
 
+#include "retreat/core/paths.hpp"
 #include "retreat/scenario/json.hpp"
 
 namespace retreat::agent {
@@ -81,9 +81,9 @@ FrameJournal::FrameJournal(std::string path, const std::string& header, wire::Ro
   std::error_code ec;
   const bool fresh = !fs::exists(path_, ec) || fs::file_size(path_, ec) == 0;
   if (!fresh) {
-    std::ifstream in(path_, std::ios::binary);
-    if (!in) throw std::invalid_argument("--journal '" + path_ + "' cannot be read");
-    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const auto read = retreat::read_regular_file(path_);
+    if (!read) throw std::invalid_argument("--journal '" + path_ + "' cannot be read as a file");
+    const std::string& text = *read;
     const auto complete = text.rfind('\n');  // a torn last line is cut off
     const std::size_t keep = complete == std::string::npos ? 0 : complete + 1;
     std::istringstream lines(text.substr(0, keep));

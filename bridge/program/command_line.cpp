@@ -4,10 +4,9 @@
 
 #include <algorithm>
 #include <cctype>
-#include <fstream>
-#include <iterator>
 #include <stdexcept>
 
+#include "retreat/core/paths.hpp"
 #include "retreat/scenario/program_options.hpp"
 
 namespace retreat::bridge {
@@ -90,9 +89,9 @@ bool is_loopback(const std::string& host) {
 }
 
 std::string read_token_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::invalid_argument("--token-file '" + path + "': cannot read it");
-  std::string token((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto text = retreat::read_regular_file(path);
+  if (!text) throw std::invalid_argument("--token-file '" + path + "': cannot read it as a file");
+  std::string token = *text;
   while (!token.empty() && (token.back() == '\n' || token.back() == '\r')) token.pop_back();
   const bool allowed = std::all_of(token.begin(), token.end(), [](char c) {
     return std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '.' || c == '_' || c == '~' || c == '+' ||

@@ -86,6 +86,8 @@ TEST(BridgeBadInput, BeyondLoopbackWithoutATokenAndBadTlsOrTokenFilesGiveOneLine
   expect_one_line_and_exit_2(with({"--tls-key", write("key.pem", "x")}), "--tls-key without --tls-cert");
   expect_one_line_and_exit_2(with({"--token-file", good_token, "--no-token"}), "--token-file and --no-token");
   expect_one_line_and_exit_2(with({"--token-file", dir + "/missing"}), "--token-file '" + dir + "/missing': cannot read it");
+  // A directory opens as a stream, and its first read threw std::ios_base::failure (tests/fuzz).
+  expect_one_line_and_exit_2(with({"--token-file", dir}), "--token-file '" + dir + "': cannot read it as a file");
   expect_one_line_and_exit_2(with({"--token-file", write("short", "abc\n")}), "must be 16 to 4096 characters");
   expect_one_line_and_exit_2(with({"--token-file", write("spaces", "0123456789 abcdef0123\n")}), "with others");
   expect_one_line_and_exit_2(with({"--http", "127.0.0.1:0", "--tls-cert", dir + "/missing.pem", "--tls-key", dir + "/key.pem"}),

@@ -5,10 +5,12 @@
 // settings.
 
 #include <gtest/gtest.h>
+
 #include <signal.h>
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -316,6 +318,13 @@ TEST_P(RobotLinkOverDds, AnAgentWithNoArenaExitsAfterStartupTimeoutAndABadJourna
   EXPECT_EQ(bad, 2) << said;
   EXPECT_NE(said.find(journal + "' line 1"), std::string::npos) << said;
   EXPECT_EQ(std::count(said.begin(), said.end(), '\n'), 1) << said;
+  // A directory: refused in one line naming it (its first read threw std::ios_base::failure).
+  const auto directory = std::filesystem::path(journal).parent_path().string();
+  const auto [not_file, answer] = testing::run_to_exit(
+      {RETREAT_AGENT_BIN, "--robot-id", "0", "--scenario", scenario, "--journal", directory}, file("dir.log"));
+  EXPECT_EQ(not_file, 2) << answer;
+  EXPECT_NE(answer.find("--journal '" + directory + "' cannot be read as a file"), std::string::npos) << answer;
+  EXPECT_EQ(std::count(answer.begin(), answer.end(), '\n'), 1) << answer;
 }
 
 INSTANTIATE_TEST_SUITE_P(Vendors, RobotLinkOverDds,

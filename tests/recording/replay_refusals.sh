@@ -20,7 +20,8 @@ head -c 3000 "$recording" >"$work/truncated.mcap"
 printf 'not a recording' >"$work/text.mcap"
 mkdir -p "$work/not-a-run"
 r=$replay
-refused "$r" missing "nothing.mcap': cannot open" "$work/nothing.mcap"
+refused "$r" missing "nothing.mcap': cannot read it as a file" "$work/nothing.mcap"
+refused "$r" directory "not-a-run': cannot read it as a file" "$work/not-a-run"
 refused "$r" not-mcap "not an MCAP file" "$work/text.mcap"
 refused "$r" truncated "truncated at byte" "$work/truncated.mcap"
 refused "$r" robots-text "--robots 'one'" "$recording" --robots one

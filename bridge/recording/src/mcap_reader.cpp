@@ -4,11 +4,10 @@
 
 #include <algorithm>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 #include <type_traits>
 
 #include "crc32.hpp"
+#include "retreat/core/paths.hpp"
 
 namespace retreat::recording {
 namespace {
@@ -308,12 +307,10 @@ McapContents read_mcap(std::span<const std::byte> bytes, const McapMessageHandle
 }
 
 McapContents read_mcap_file(const std::string& path, const McapMessageHandler& on_message) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw McapError("'" + path + "': cannot open the file");
-  std::vector<char> chars((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw McapError("'" + path + "': cannot read the file");
+  const auto bytes = retreat::read_regular_file(path);
+  if (!bytes) throw McapError("'" + path + "': cannot read it as a file");
   try {
-    return read_mcap(std::as_bytes(std::span(chars.data(), chars.size())), on_message);
+    return read_mcap(std::as_bytes(std::span(bytes->data(), bytes->size())), on_message);
   } catch (const McapError& e) {
     throw McapError("'" + path + "': " + e.what());
   }

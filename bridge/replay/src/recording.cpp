@@ -1,9 +1,8 @@
 #include "retreat/replay/recording.hpp"
 
-#include <fstream>
-#include <iterator>
 #include <optional>
 
+#include "retreat/core/paths.hpp"
 #include "retreat/recording/mcap_reader.hpp"
 #include "retreat/scenario/json.hpp"
 #include "retreat/transport/factory.hpp"
@@ -165,11 +164,9 @@ Recording parse_recording(std::span<const std::byte> bytes, const std::string& n
 }
 
 Recording load_recording(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw RecordingError("'" + path + "': cannot open the file");
-  const std::vector<char> chars((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw RecordingError("'" + path + "': cannot read the file");
-  return parse_recording(std::as_bytes(std::span(chars.data(), chars.size())), path);
+  const auto bytes = retreat::read_regular_file(path);
+  if (!bytes) throw RecordingError("'" + path + "': cannot read it as a file");
+  return parse_recording(std::as_bytes(std::span(bytes->data(), bytes->size())), path);
 }
 
 }  // namespace retreat::replay

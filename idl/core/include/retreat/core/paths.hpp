@@ -6,6 +6,7 @@
 /// (found by tests/fuzz: a long `dds.profile` made every program abort).
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <system_error>
 
@@ -28,5 +29,11 @@ inline bool exists(const std::string& path) noexcept {
   std::error_code ignored;
   return std::filesystem::exists(path, ignored);
 }
+
+/// The bytes of the regular file @p path, or nothing when it is not one (missing, a directory, a
+/// FIFO, any path the OS refuses) or reading it fails. Never throws for what the file system
+/// holds: an std::ifstream opens a directory, and its first read throws std::ios_base::failure
+/// (found by tests/fuzz: `retreat-bridge --token-file DIR` ended without naming the file).
+std::optional<std::string> read_regular_file(const std::string& path);
 
 }  // namespace retreat
