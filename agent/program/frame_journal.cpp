@@ -81,7 +81,7 @@ FrameJournal::FrameJournal(std::string path, const std::string& header, wire::Ro
   std::error_code ec;
   const bool fresh = !fs::exists(path_, ec) || fs::file_size(path_, ec) == 0;
   if (!fresh) {
-    const auto read = retreat::read_regular_file(path_);
+    const auto read = retreat::read_file(path_);
     if (!read) throw std::invalid_argument("--journal '" + path_ + "' cannot be read as a file");
     const std::string& text = *read;
     const auto complete = text.rfind('\n');  // a torn last line is cut off

@@ -89,7 +89,7 @@ bool is_loopback(const std::string& host) {
 }
 
 std::string read_token_file(const std::string& path) {
-  const auto text = retreat::read_regular_file(path);
+  const auto text = retreat::read_file(path);
   if (!text) throw std::invalid_argument("--token-file '" + path + "': cannot read it as a file");
   std::string token = *text;
   while (!token.empty() && (token.back() == '\n' || token.back() == '\r')) token.pop_back();

@@ -307,7 +307,7 @@ McapContents read_mcap(std::span<const std::byte> bytes, const McapMessageHandle
 }
 
 McapContents read_mcap_file(const std::string& path, const McapMessageHandler& on_message) {
-  const auto bytes = retreat::read_regular_file(path);
+  const auto bytes = retreat::read_file(path);
   if (!bytes) throw McapError("'" + path + "': cannot read it as a file");
   try {
     return read_mcap(std::as_bytes(std::span(bytes->data(), bytes->size())), on_message);

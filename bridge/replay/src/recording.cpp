@@ -164,7 +164,7 @@ Recording parse_recording(std::span<const std::byte> bytes, const std::string& n
 }
 
 Recording load_recording(const std::string& path) {
-  const auto bytes = retreat::read_regular_file(path);
+  const auto bytes = retreat::read_file(path);
   if (!bytes) throw RecordingError("'" + path + "': cannot read it as a file");
   return parse_recording(std::as_bytes(std::span(bytes->data(), bytes->size())), path);
 }

@@ -6,8 +6,10 @@
 
 namespace retreat {
 
-std::optional<std::string> read_regular_file(const std::string& path) {
-  if (!is_regular_file(path)) return std::nullopt;
+std::optional<std::string> read_file(const std::string& path) {
+  std::error_code ignored;
+  const auto type = std::filesystem::status(path, ignored).type();
+  if (type != std::filesystem::file_type::regular && type != std::filesystem::file_type::fifo) return std::nullopt;
   try {
     std::ifstream in(path, std::ios::binary);
     if (!in) return std::nullopt;

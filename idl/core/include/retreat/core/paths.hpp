@@ -30,10 +30,11 @@ inline bool exists(const std::string& path) noexcept {
   return std::filesystem::exists(path, ignored);
 }
 
-/// The bytes of the regular file @p path, or nothing when it is not one (missing, a directory, a
-/// FIFO, any path the OS refuses) or reading it fails. Never throws for what the file system
-/// holds: an std::ifstream opens a directory, and its first read throws std::ios_base::failure
-/// (found by tests/fuzz: `retreat-bridge --token-file DIR` ended without naming the file).
-std::optional<std::string> read_regular_file(const std::string& path);
+/// The bytes of the file @p path, a regular file or a pipe (a secret given as `<(command)`), or
+/// nothing when it is neither (missing, a directory, a device, any path the OS refuses) or
+/// reading it fails. Never throws for what the file system holds: an std::ifstream opens a
+/// directory, and its first read throws std::ios_base::failure (found by tests/fuzz:
+/// `retreat-bridge --token-file DIR` ended without naming the file).
+std::optional<std::string> read_file(const std::string& path);
 
 }  // namespace retreat
