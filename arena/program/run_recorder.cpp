@@ -15,6 +15,7 @@
 #include <stdexcept>
 #include <type_traits>
 
+#include "retreat/core/paths.hpp"
 #include "retreat/model/optimum.hpp"
 #include "retreat/physics/domain.hpp"
 
@@ -76,10 +77,9 @@ namespace {
 /// The complete lines of `path` (a half-written last line left out), and truncates the file to
 /// them. Missing file: no lines.
 std::vector<std::string> complete_lines(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return {};
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  in.close();
+  const auto read = retreat::read_file(path);
+  if (!read) return {};
+  const std::string& text = *read;
   const auto end = text.rfind('\n');
   const std::size_t keep = end == std::string::npos ? 0 : end + 1;
   std::filesystem::resize_file(path, keep);

@@ -24,8 +24,9 @@
 # agent.K_p = agent.lambda_in = 0 (nobody retreats), run.duration simulated seconds.
 # Reports per vendor: seconds from the first agent's start until the last was started (each
 # through `ip netns exec`, 5 ms apart) and until the arena had matched every agent (its "N agents
-# matched" line, looked for every 50 ms; "<T" when the run ended before a look saw it), the run's wall time (summary.json wall_seconds), ticks,
-# lost agents, the trajectory hash, and whether it equals the same scenario's in-process hash.
+# matched" line, looked for every 50 ms; "<T" when the run ended before a look saw it), the
+# run's wall time (summary.json wall_seconds), ticks, lost agents, the trajectory hash, and
+# whether it equals the same scenario's in-process hash.
 #
 # Usage (root: it creates network namespaces; nothing is configured in the host's namespace, so
 # no DDS packet can reach eth0):
@@ -98,10 +99,11 @@ cleanup() {
 trap cleanup EXIT
 trap 'exit 130' INT TERM
 
-# The network: namespace "sw" holds the bridge; host 0 is the arena (10.213.0.1), hosts 1..H the
-# agents (10.213.0.2 ...). Interface names are per namespace: every host's end is mh0.
 # Seconds since $1 (a ${EPOCHREALTIME/./} in µs), one decimal.
 elapsed_since() { local ds=$(( (${EPOCHREALTIME/./} - $1) / 100000 )); echo "$(( ds / 10 )).$(( ds % 10 ))"; }
+
+# The network: namespace "sw" holds the bridge; host 0 is the arena (10.213.0.1), hosts 1..H the
+# agents (10.213.0.2 ...). Interface names are per namespace: every host's end is mh0.
 address() { local i=$(( $1 + 1 )); echo "10.213.$(( i / 256 )).$(( i % 256 ))"; }
 ip netns add "${prefix}sw"; namespaces+=("${prefix}sw")
 ip -n "${prefix}sw" link add br0 type bridge forward_delay 0 stp_state 0 mcast_snooping 0

@@ -4,7 +4,6 @@
 #include <charconv>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <functional>
 #include <map>
 #include <optional>
@@ -12,6 +11,7 @@
 #include <sstream>
 #include <vector>
 
+#include "retreat/core/paths.hpp"
 #include "retreat/replay/recording.hpp"
 
 namespace retreat::replay {
@@ -30,11 +30,11 @@ std::string phase_name(int phase) {
 
 std::vector<std::uint64_t> read_chain(const std::string& dir) {
   const auto path = dir + "/chain.bin";
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
+  const auto read = retreat::read_file(path);
+  if (!read) {
     throw DiffError("'" + dir + "': no chain.bin (not a run directory, or written before runs recorded their hash chain)");
   }
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string& bytes = *read;
   if (bytes.size() < sizeof chain_magic || std::memcmp(bytes.data(), chain_magic, sizeof chain_magic) != 0) {
     throw DiffError("'" + path + "': not a hash chain (it does not begin with RTCHAIN1)");
   }
@@ -55,9 +55,9 @@ struct Csv {
 };
 
 Csv read_csv(const std::string& path, const std::string& expected_first_column) {
-  std::ifstream in(path);
-  if (!in) throw DiffError("'" + path + "': missing");
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto read = retreat::read_file(path);
+  if (!read) throw DiffError("'" + path + "': missing");
+  std::string text = *read;
   if (const auto end = text.rfind('\n'); end != std::string::npos) text.resize(end + 1);
   std::istringstream lines(text);
   Csv csv;

@@ -1,9 +1,9 @@
 #include "retreat/bridge/receiver.hpp"
 
 #include <filesystem>
-#include <fstream>
 #include <stdexcept>
 
+#include "retreat/core/paths.hpp"
 #include "retreat/wire/topics.hpp"
 
 namespace retreat::bridge {
@@ -18,9 +18,9 @@ constexpr const char* header =
 /// Bytes of `path` up to and including its last newline if it begins with the header; 0 if it
 /// does not exist, is empty or holds something else (then it is rewritten).
 std::size_t complete_rows_size(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return 0;
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto read = retreat::read_file(path);
+  if (!read) return 0;
+  const std::string& text = *read;
   if (text.rfind(header, 0) != 0) return 0;
   return text.rfind('\n') + 1;
 }
