@@ -41,6 +41,8 @@ refused "$d" one-argument "b is required" "$recording"
 refused "$d" kinds "one is a run directory, the other a recording" "$work/not-a-run" "$recording"
 refused "$d" absent "no such file or directory" "$work/nothing" "$recording"
 refused "$d" no-chain "no chain.bin" "$work/not-a-run" "$work/not-a-run"
+mkdir -p "$work/chain-is-a-directory/chain.bin"  # read as a file, a directory threw a stream error
+refused "$d" chain-directory "chain-is-a-directory': no chain.bin" "$work/chain-is-a-directory" "$work/not-a-run"
 refused "$d" diff-truncated "truncated at byte" "$work/truncated.mcap" "$recording"
 b=$bridge
 refused "$b" bridge-truncated "--replay: '.*truncated.mcap': truncated at byte" --replay "$work/truncated.mcap" --http 127.0.0.1:0
