@@ -10,7 +10,9 @@
 #     and cpu_ms_per_tick, that over the ticks run;
 #   * memory per agent process: peak RSS (VmHWM) and PSS (shared pages divided among the
 #     processes mapping them), the largest value seen every 2 s while the run went on, mean over
-#     the agents.
+#     the agents;
+#   * trajectory: the first 16 hex digits of summary.json trajectory_sha256, which must be the
+#     same for every vendor (and plans or not) at one N and duration.
 #
 # The world: the kinetic one (no positions, so any N fits), a square of N / 1.5 m^2 (density
 # near λ* of the paper's parameters), all N robots inside, agent.K_p = agent.lambda_in = 0 (ε ≡ 0:
@@ -143,10 +145,14 @@ l = j.get("launch", {})
 cpu = l.get("cpu_seconds")
 cpu_s = cpu["user"] + cpu["system"] if cpu else None
 cpu_text = f"cpu_s={cpu_s:.1f} cpu_ms_per_tick={1000 * cpu_s / max(1, j['ticks']):.3f}" if cpu else "cpu_s=- cpu_ms_per_tick=-"
-print(f"vendor={vendor} agents={n} domains={domains} plans={plans} exit={code} ticks={j['ticks']} ticks_per_second={j['ticks_per_second']:.0f} "
+tps = j['ticks_per_second']
+# Per-tick runs of 500 and more agents make a few ticks a second: keep two decimals there.
+tps_text = f"{tps:.0f}" if tps >= 100 else f"{tps:.2f}"
+print(f"vendor={vendor} agents={n} domains={domains} plans={plans} exit={code} ticks={j['ticks']} ticks_per_second={tps_text} "
       f"answers={j.get('decisions_received')} planned={j.get('decisions_planned')} run_s={j.get('wall_seconds', 0):.2f} "
       f"startup_s={l.get('seconds_to_first_tick', -1):.2f} matched={j['agents'].get('matched')} "
-      f"lost={j['agents']['lost']} agent_rss_mib={rss} agent_pss_mib={pss} wall_s={l.get('wall_seconds', 0):.1f} {cpu_text}")
+      f"lost={j['agents']['lost']} agent_rss_mib={rss} agent_pss_mib={pss} wall_s={l.get('wall_seconds', 0):.1f} {cpu_text} "
+      f"trajectory={j.get('trajectory_sha256', '-')[:16]}")
 EOF
 )
     echo "$line" | tee -a "$results"
