@@ -115,6 +115,13 @@ TEST(ScenarioLoader, OutOfRangeValuesNameTheKeyTheValueAndTheRange) {
   expect_error("", {"dds.prefix=a//b"}, "dds.prefix = 'a//b'");
   expect_error("", {"dds.security=yes"}, "dds.security = 'yes': must be on or off");
   expect_error("", {"dds.security=on"}, "dds.security_dir = '': must be a directory made by");
+  // A profile that is missing or a directory: the path and what it must be (it said "no such
+  // file" for a directory).
+  const std::string dir = ::testing::TempDir();
+  expect_error("", {"dds.profile=" + dir},
+               "dds.profile = '" + dir + "': must be an existing file (a vendor XML");
+  expect_error("", {"dds.profile=/nonexistent/p.xml"},
+               "dds.profile = '/nonexistent/p.xml': must be an existing file");
 }
 
 TEST(ScenarioLoader, ANameOutsideAnEnumsTableListsTheNames) {

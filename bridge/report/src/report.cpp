@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "page_parts.hpp"
+#include "retreat/core/paths.hpp"
 #include "retreat/report/run_info.hpp"
 #include "retreat/model/ctmc.hpp"
 #include "retreat/model/encounter.hpp"
@@ -57,8 +58,11 @@ std::vector<std::string> split(const std::string& line) {
 
 /// Reads a numeric CSV; a row that does not parse completely (a line being written) ends it.
 Table read_table(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(path + ": cannot read");
+  // retreat::read_file: a directory in the file's place is refused here, naming it, where an
+  // std::ifstream's first read would throw a stream error that names nothing.
+  const auto text = retreat::read_file(path);
+  if (!text) throw std::runtime_error(path + ": cannot read it as a file");
+  std::istringstream in(*text);
   Table t;
   std::string line;
   if (!std::getline(in, line)) return t;
@@ -335,11 +339,12 @@ json report_data(const std::string& dir) {
     r.deliveries = r.telemetry.require("deliveries", path);
     r.density = r.telemetry.require("true_density", path);
     runs.push_back(std::move(r));
-    std::ifstream summary(d + "/summary.json");
+    // A run without a readable summary (still running, or a directory in its place) has none.
+    const auto summary = retreat::read_file(d + "/summary.json");
     json j = nullptr;
     if (summary) {
       try {
-        j = json::parse(summary);
+        j = json::parse(*summary);
       } catch (const json::exception&) {
         j = nullptr;
       }

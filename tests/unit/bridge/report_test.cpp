@@ -154,5 +154,26 @@ TEST_F(Report, ADirectoryWithoutTelemetryIsRefused) {
   EXPECT_THROW((void)report_data(dir_), std::runtime_error);
 }
 
+// A directory where a run's file belongs: telemetry.csv is refused in one line naming it (its
+// first read threw a stream error naming nothing: "basic_filebuf::underflow error reading the
+// file"), and summary.json counts as missing, as for a run still being written.
+TEST_F(Report, ADirectoryInPlaceOfARunsFileIsNamedOrCountsAsMissing) {
+  write_run(dir_, 4, 2, 1);
+  fs::remove(dir_ + "/summary.json");
+  fs::create_directories(dir_ + "/summary.json");
+  const auto j = report_data(dir_);
+  ASSERT_EQ(j["runs"].size(), 1u);
+  EXPECT_TRUE(j["runs"][0]["summary"].is_null());
+
+  fs::remove(dir_ + "/telemetry.csv");
+  fs::create_directories(dir_ + "/telemetry.csv");
+  try {
+    (void)report_data(dir_);
+    ADD_FAILURE() << "a directory as telemetry.csv was read";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), dir_ + "/telemetry.csv: cannot read it as a file");
+  }
+}
+
 }  // namespace
 }  // namespace retreat::report

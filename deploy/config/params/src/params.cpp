@@ -90,7 +90,8 @@ void validate_dds(const DdsParams& d) {
   check(wire::is_valid_prefix(d.prefix), "dds.prefix", "'" + d.prefix + "'",
         "must be 1..64 characters of letters, digits and _, with single / between parts");
   check(d.profile.empty() || retreat::is_regular_file(d.profile), "dds.profile",
-        "'" + d.profile + "'", "no such file (a vendor XML profile; empty for built-in loopback)");
+        "'" + d.profile + "'",
+        "must be an existing file (a vendor XML profile; empty for built-in loopback)");
   const bool secure = d.security == Security::on;
   check(!secure || retreat::is_regular_file(d.security_dir + "/ca.pem"), "dds.security_dir",
         "'" + d.security_dir + "'",
