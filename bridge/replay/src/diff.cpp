@@ -9,6 +9,7 @@
 #include <optional>
 #include <set>
 #include <sstream>
+#include <utility>
 #include <vector>
 
 #include "retreat/core/paths.hpp"
@@ -55,9 +56,9 @@ struct Csv {
 };
 
 Csv read_csv(const std::string& path, const std::string& expected_first_column) {
-  const auto read = retreat::read_file(path);
+  auto read = retreat::read_file(path);
   if (!read) throw DiffError("'" + path + "': missing");
-  std::string text = *read;
+  std::string text = std::move(*read);
   if (const auto end = text.rfind('\n'); end != std::string::npos) text.resize(end + 1);
   std::istringstream lines(text);
   Csv csv;

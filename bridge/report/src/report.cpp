@@ -9,6 +9,7 @@
 #include <map>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 #include "page_parts.hpp"
 #include "retreat/core/paths.hpp"
@@ -60,9 +61,9 @@ std::vector<std::string> split(const std::string& line) {
 Table read_table(const std::string& path) {
   // retreat::read_file: a directory in the file's place is refused here, naming it, where an
   // std::ifstream's first read would throw a stream error that names nothing.
-  const auto text = retreat::read_file(path);
+  auto text = retreat::read_file(path);
   if (!text) throw std::runtime_error(path + ": cannot read it as a file");
-  std::istringstream in(*text);
+  std::istringstream in(std::move(*text));
   Table t;
   std::string line;
   if (!std::getline(in, line)) return t;
