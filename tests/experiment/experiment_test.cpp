@@ -502,6 +502,50 @@ INSTANTIATE_TEST_SUITE_P(
                  "confident,confident"}),
     [](const auto& param_info) { return param_info.param.name; });
 
+// What a launcher leaves (--launcher takes any program) is read as data: a run directory whose
+// summary.json or telemetry.csv is a directory, missing, or not what they hold ends the run
+// with one line naming the file and exit 1. (A directory used to end it with "basic_filebuf::
+// underflow error reading the file: Is a directory", and a summary without its area with
+// nlohmann's "key 'area' not found": neither named the file.)
+TEST(Experiment, ABadRunLeftByTheLauncherIsNamedInOneLine) {
+  const std::string summary =
+      R"({"area": 3.0159, "optimal_population": 4.55, "agents": {"lost": 0}, "run_duration": 0.06})";
+  const std::string good_telemetry = "time,inside,retreating,departed,deliveries\\n0.03,8,0,0,0\\n0.06,8,0,0,1\\n";
+  struct Case {
+    std::string name;
+    std::string make;  // shell commands run in the seed's run directory
+    std::string file;  // the file the line must name
+  };
+  const std::vector<Case> cases = {
+      {"summary-directory", "mkdir summary.json", "summary.json"},
+      {"summary-missing", "printf '" + good_telemetry + "' > telemetry.csv", "summary.json"},
+      {"summary-without-area", "echo '{\"optimal_population\": 4.55, \"agents\": {}}' > summary.json", "summary.json"},
+      {"summary-wrong-type", "echo '{\"area\": \"big\", \"optimal_population\": 4.55, \"agents\": {}}' > summary.json",
+       "summary.json"},
+      {"telemetry-directory", "echo '" + summary + "' > summary.json && mkdir telemetry.csv", "telemetry.csv"},
+      {"telemetry-long-row",
+       "echo '" + summary + "' > summary.json && printf 'time,inside,retreating,departed,deliveries\\n0.03,8,0,0,0,9\\n' > telemetry.csv",
+       "telemetry.csv"},
+  };
+  for (const auto& c : cases) {
+    const auto dir = fresh_dir("bad-run-" + c.name);
+    const std::string launcher = dir + "/launcher.sh";
+    std::ofstream(launcher) << "#!/bin/sh\n"
+                               "while [ $# -gt 0 ]; do if [ \"$1\" = --out ]; then out=$2; fi; shift; done\n"
+                               "mkdir -p \"$out/seed_1\" && cd \"$out/seed_1\" && " << c.make << "\n";
+    fs::permissions(launcher, fs::perms::owner_all);
+    const auto [code, output] = run(dir, {"controllers", "--quick", "--controllers", "paper", "--seeds", "1:1",
+                                          "--launcher", launcher, "--out", dir + "/out"});
+    EXPECT_EQ(code, 1) << c.name << ": " << output;
+    // The launcher's command line comes first; the verdict is the last line.
+    const auto from = output.rfind('\n', output.size() - 2);
+    const std::string last = output.substr(from == std::string::npos ? 0 : from + 1);
+    EXPECT_NE(last.find("run failed: '" + dir + "/out/runs/finite/paper/seed_1/" + c.file + "'"), std::string::npos)
+        << c.name << ": " << output;
+    EXPECT_EQ(last.find("basic_filebuf"), std::string::npos) << c.name << ": " << output;
+  }
+}
+
 TEST(Experiment, RefusesAnOutDirectoryThatHoldsSomething) {
   const auto dir = fresh_dir("out-not-empty");
   std::ofstream(dir + "/keep.txt") << "a previous run\n";
