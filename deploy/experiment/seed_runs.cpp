@@ -7,7 +7,8 @@
 #include <filesystem>
 #include <limits>
 #include <nlohmann/json.hpp>
-#include <string_view>
+#include <sstream>
+#include <utility>
 
 #include "retreat/core/paths.hpp"
 #include "retreat/experiment/common.hpp"
@@ -22,66 +23,46 @@ struct Telemetry {
   std::vector<double> time, inside, retreating, departed, deliveries;
 };
 
-/// The next line of @p text from @p at (without its '\n'); @p at moves past it.
-std::string_view next_line(std::string_view text, std::size_t& at) {
-  const std::size_t end = std::min(text.find('\n', at), text.size());
-  const std::string_view line = text.substr(at, end - at);
-  at = end + 1;
-  return line;
-}
-
-/// The five columns the experiments use; only their cells are parsed, and every row must have
-/// the header's length. The file is read with retreat::read_file: a directory or anything else
-/// that is not a file is named in one line (an std::ifstream opens a directory and throws on
-/// its first read, naming nothing).
 Telemetry read_telemetry(const std::string& path) {
-  const auto bytes = retreat::read_file(path);
+  // retreat::read_file: a directory in the file's place is named here, where an std::ifstream's
+  // first read would throw a stream error that names nothing.
+  auto bytes = retreat::read_file(path);
   if (!bytes) throw RunFailure("'" + path + "': missing, or not a file (the launcher wrote no telemetry)");
-  const std::string_view text = *bytes;
-  std::size_t at = 0;
-  std::vector<std::string_view> header;
+  std::istringstream in(std::move(*bytes));
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> header;
   {
-    const std::string_view line = next_line(text, at);
-    for (std::size_t from = 0; from <= line.size();) {
-      const std::size_t comma = std::min(line.find(',', from), line.size());
-      header.push_back(line.substr(from, comma - from));
-      from = comma + 1;
-    }
+    std::istringstream h(line);
+    for (std::string cell; std::getline(h, cell, ',');) header.push_back(cell);
   }
   const auto column = [&](const std::string& name) {
     const auto it = std::find(header.begin(), header.end(), name);
     if (it == header.end()) throw RunFailure("'" + path + "': no column '" + name + "'");
     return static_cast<std::size_t>(it - header.begin());
   };
+  const std::size_t time = column("time"), inside = column("inside"), retreating = column("retreating"),
+                    departed = column("departed"), deliveries = column("deliveries");
   Telemetry t;
-  std::vector<std::vector<double>*> into(header.size(), nullptr);  // by column; null: not used
-  into[column("time")] = &t.time;
-  into[column("inside")] = &t.inside;
-  into[column("retreating")] = &t.retreating;
-  into[column("departed")] = &t.departed;
-  into[column("deliveries")] = &t.deliveries;
-  while (at < text.size()) {
-    const std::string_view line = next_line(text, at);
+  std::vector<double> row;
+  while (std::getline(in, line)) {
+    row.clear();
+    // std::from_chars: the same correctly rounded doubles as strtod, without its locale.
     const char* p = line.data();
     const char* const last = p + line.size();
-    std::size_t cells = 0;
-    for (;;) {
-      const char* const comma = std::find(p, last, ',');
-      if (cells == into.size()) throw RunFailure("'" + path + "': a row longer than the header: " + std::string(line));
-      if (auto* const values = into[cells]) {
-        // std::from_chars: the same correctly rounded doubles as strtod, without its locale.
-        double cell = 0.0;
-        const auto [end, ec] = std::from_chars(p, comma, cell);
-        if (ec != std::errc() || end != comma) {
-          throw RunFailure("'" + path + "': a cell that is not a number: " + std::string(line));
-        }
-        values->push_back(cell);
-      }
-      ++cells;
-      if (comma == last) break;
-      p = comma + 1;
+    while (p != last) {
+      double cell = 0.0;
+      const auto [end, ec] = std::from_chars(p, last, cell);
+      if (ec != std::errc() || end == p) throw RunFailure("'" + path + "': a cell that is not a number: " + line);
+      row.push_back(cell);
+      p = end != last && *end == ',' ? end + 1 : end;
     }
-    if (cells != into.size()) throw RunFailure("'" + path + "': a short row: " + std::string(line));
+    if (row.size() != header.size()) throw RunFailure("'" + path + "': a short row: " + line);
+    t.time.push_back(row[time]);
+    t.inside.push_back(row[inside]);
+    t.retreating.push_back(row[retreating]);
+    t.departed.push_back(row[departed]);
+    t.deliveries.push_back(row[deliveries]);
   }
   if (t.time.size() < 2) throw RunFailure("'" + path + "': fewer than two ticks");
   return t;
@@ -141,27 +122,21 @@ SeedRun read_seed_run(const fs::path& d, double C, double grid_step) {
   const std::string summary_path = (d / "summary.json").string();
   const auto summary_text = retreat::read_file(summary_path);
   if (!summary_text) throw RunFailure("'" + summary_path + "': missing, or not a file (the launcher wrote no summary)");
-  // A summary that does not parse, or lacks a field or has one of another type, is named.
-  const auto bad_summary = [&](const nlohmann::json::exception& e) {
-    return RunFailure("'" + summary_path + "': " + e.what());
-  };
-  nlohmann::json summary;
+  Telemetry t;
+  // Only the summary throws JSON exceptions here: one that does not parse, or lacks a field or
+  // has one of another type, is named (read_telemetry names its own file).
   try {
-    summary = nlohmann::json::parse(*summary_text);
+    const auto summary = nlohmann::json::parse(*summary_text);
     r.area = summary.at("area").get<double>();
     r.optimal_population = summary.at("optimal_population").get<double>();
     r.agents_lost = summary.at("agents").value("lost", 0u);
     r.trajectory_sha256 = summary.value("trajectory_sha256", std::string());
     r.longest_retreat_under_way =
         summary.value(nlohmann::json::json_pointer("/retreats/longest_under_way_seconds"), 0.0);
-  } catch (const nlohmann::json::exception& e) {
-    throw bad_summary(e);
-  }
-  auto t = read_telemetry((d / "telemetry.csv").string());
-  try {
+    t = read_telemetry((d / "telemetry.csv").string());
     pad_emptied_run(t, summary);
   } catch (const nlohmann::json::exception& e) {
-    throw bad_summary(e);
+    throw RunFailure("'" + summary_path + "': " + e.what());
   }
   r.duration = t.time.back();
   r.final_population = t.inside.back();
