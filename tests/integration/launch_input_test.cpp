@@ -53,6 +53,32 @@ TEST(LaunchInput, BadInputIsRefusedWithExitCodeTwoAndNothingStarted) {
   EXPECT_FALSE(std::filesystem::exists(mcap)) << "a refused launch wrote its recording";
 }
 
+TEST(LaunchInput, AScenarioThatWouldHangOrExhaustMemoryIsRefusedInOneLineNamingItsKey) {
+  // Before these limits: an influx of 1e300 robots/(m^2 s) and 10^9 tumbles a second looped over
+  // their events forever, deaf to SIGTERM; 1e9 pick-up locations per m^2 and 10^8 waiting robots
+  // ended in "std::bad_alloc" (or the OOM killer); a 1e30 m arena was refused as
+  // "arena.robots_inside = 8: must be <= 0".
+  const std::string endless = scenarios + "/steady-influx.yaml";
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"--set", "agent.lambda_in=1e300"}, "agent.lambda_in = 1e+300: must be <= "},
+      {{"--set", "model.lambda_p=1e9"}, "model.lambda_p = 1000000000: must be <= "},
+      {{"--set", "arena.robots_waiting=100000000"}, "arena.robots_waiting = 100000000: must be <= 999992 "},
+      {{"--set", "arena.semi_axis_x=1e30"}, "arena.semi_axis_x = 1e+30: must be <= 1000000 m"},
+      {{"--set", "arena.tumble_rate=1e9"}, "arena.tumble_rate = 1000000000: must be <= "},
+      {{"--set", "arena.physics_dt=1e-12"}, "arena.physics_dt = 1e-12: must be >= "},
+  };
+  for (const auto& [set, line] : cases) {
+    const auto dir = fresh_dir("input-limits");
+    std::vector<std::string> args = {endless, "--in-process", "--no-bridge"};
+    args.insert(args.end(), set.begin(), set.end());
+    EXPECT_EQ(run_launch(dir, args), 2) << set[1] << ": " << log_of(dir);
+    const auto log = log_of(dir);
+    EXPECT_EQ(log.rfind("retreat-launch: " + line, 0), 0u) << set[1] << ": " << log;
+    EXPECT_EQ(std::count(log.begin(), log.end(), '\n'), 1) << "one line: " << log;
+    EXPECT_FALSE(std::filesystem::exists(dir + "/run")) << set[1] << ": something was started";
+  }
+}
+
 TEST(LaunchInput, ASwarmBeyondWhatItsDdsSettingsDiscoverIsRefusedWithTheLimitAndTheWayOut) {
   // kinetic-1000 without a bridge: 1,000 agents, the arena and the launcher, with the built-in settings
   // (participant indices 0..119 per domain); the unit tests cover profiles, tasks and memory.

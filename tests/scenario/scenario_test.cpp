@@ -112,6 +112,12 @@ TEST(ScenarioLoader, OutOfRangeValuesNameTheKeyTheValueAndTheRange) {
   expect_error("", {"dds.domains=65"}, "dds.domains = 65: must be an integer in 1..64");
   expect_error("", {"dds.domain=230", "dds.domains=4"}, "dds.domains = 4: must be an integer in 1..3");
   expect_error("", {"bridge.http=localhost"}, "bridge.http = 'localhost': must be HOST:PORT");
+  // Arrivals over the run (agent.lambda_in·|D|·run.duration) at most 10⁷: an influx of 1e300 hung
+  // the arena in its loop over the arrivals; a year of the default influx is refused the same way.
+  expect_error("", {"agent.lambda_in=1e300"}, "agent.lambda_in = 1e+300: must be <= ");
+  expect_error("", {"run.duration=2e8"}, "agent.lambda_in = 0.02: must be <= 0.01657");
+  expect_error("", {"run.duration=2e8"}, "and run.duration = 2e+08 s: 12063715.7");
+  expect_error("", {"arena.semi_axis_x=2e6"}, "arena.semi_axis_x = 2000000: must be <= 1000000 m");
   expect_error("", {"dds.prefix=a//b"}, "dds.prefix = 'a//b'");
   expect_error("", {"dds.security=yes"}, "dds.security = 'yes': must be on or off");
   expect_error("", {"dds.security=on"}, "dds.security_dir = '': must be a directory made by");

@@ -17,8 +17,14 @@ CollectionTask::CollectionTask(const Domain& domain, double lambda_p, double lam
 void CollectionTask::init(PointSet& set, std::size_t count, double density, Rng& rng) const {
   // Cells of side ≥ 2δ: a δ-disc touches at most a 2×2 block, visited as the 3×3 around it.
   // Larger cells where points are sparse keep the index small (about one point per cell).
+  // At most max(64, 2·count) cells, whatever the arena's size: a query's answer does not depend
+  // on the cell size (any side >= 2δ), only the index's memory does.
   const Vec2& half = domain_.half_extent();
   set.cell = std::max(2.0 * delta_, density > 0.0 ? 1.0 / std::sqrt(density) : 1.0);
+  const double max_cells = std::max(64.0, 2.0 * static_cast<double>(count));
+  while (std::ceil(2.0 * half.x() / set.cell) * std::ceil(2.0 * half.y() / set.cell) > max_cells) {
+    set.cell *= 1.25;
+  }
   set.nx = std::max(1, static_cast<int>(std::ceil(2.0 * half.x() / set.cell)));
   set.ny = std::max(1, static_cast<int>(std::ceil(2.0 * half.y() / set.cell)));
   set.cells.assign(static_cast<std::size_t>(set.nx) * static_cast<std::size_t>(set.ny), {});

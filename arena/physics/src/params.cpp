@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -22,7 +23,10 @@ std::string text(double value) {
     return value > 0 ? "inf" : "-inf";
   }
   char buffer[64];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+  // A whole number is written out (1000000, not 1e+06) while that is short enough to read.
+  const bool whole = std::abs(value) < 1e15 && value == std::trunc(value);
+  const auto result = whole ? std::to_chars(buffer, buffer + sizeof buffer, value, std::chars_format::fixed)
+                            : std::to_chars(buffer, buffer + sizeof buffer, value);
   return std::string(buffer, result.ptr);
 }
 
@@ -99,11 +103,16 @@ double walk_inset(const WorldParams& params) {
          params.v * (2.0 * params.physics_dt + 1.0 / params.boundary_gain);
 }
 
+double domain_area(const WorldParams& params) { return domain_of(params).area(); }
+
 std::uint32_t max_robots(const WorldParams& params) {
   const double disc = pi * 0.25 * params.safety_distance * params.safety_distance;
   const double walkable =
       domain_of(params).inset_area(params.robot_radius + params.projection_distance);
-  return static_cast<std::uint32_t>(std::floor(0.4 * walkable / disc));
+  // In double first: a large arena holds more robots than a std::uint32_t counts.
+  const double fit = std::floor(0.4 * walkable / disc);
+  constexpr double most = std::numeric_limits<std::uint32_t>::max();
+  return fit >= most ? std::numeric_limits<std::uint32_t>::max() : static_cast<std::uint32_t>(fit);
 }
 
 void WorldParams::validate() const {
@@ -151,13 +160,17 @@ void WorldParams::validate() const {
   }
 
   // Time.
-  require_positive("arena.tick_dt", tick_dt, "s");
+  require_positive("agent.dt", tick_dt, "s");
   require_positive("arena.physics_dt", physics_dt, "s");
   require(physics_dt <= tick_dt, "arena.physics_dt", physics_dt,
-          "must be <= arena.tick_dt (" + text(tick_dt) + " s)");
+          "must be <= agent.dt (" + text(tick_dt) + " s)");
   const double ratio = tick_dt / physics_dt;
   require(std::abs(ratio - std::round(ratio)) <= 1e-9 * ratio, "arena.physics_dt", physics_dt,
-          "must divide arena.tick_dt (" + text(tick_dt) + " s) into a whole number of steps");
+          "must divide agent.dt (" + text(tick_dt) + " s) into a whole number of steps");
+  require(std::round(ratio) <= max_substeps_per_tick, "arena.physics_dt", physics_dt,
+          "must be >= agent.dt / " + text(max_substeps_per_tick) + " (" +
+              text(tick_dt / max_substeps_per_tick) + " s): at most " + text(max_substeps_per_tick) +
+              " physics steps per tick");
   if (model == EncounterModel::physical) {
     require(max_speed * physics_dt <= 0.25 * delta, "arena.physics_dt", physics_dt,
             "must be <= model.delta / (4 * arena.max_speed) (" + text(0.25 * delta / max_speed) +
@@ -172,8 +185,20 @@ void WorldParams::validate() const {
             "must be <= 1 / arena.physics_dt (" + text(1.0 / physics_dt) + " 1/s)");
   }
   require_non_negative("arena.tumble_rate", tumble_rate, "1/s");
+  // Rates whose events the world draws one by one within a tick.
+  const auto events = [&](std::string_view key, double value, double per_tick, std::string_view what) {
+    require(per_tick <= max_events_per_tick, key, value,
+            "must be <= " + text(value * max_events_per_tick / per_tick) + ": at most " + text(max_events_per_tick) +
+                " " + std::string(what) + " expected per robot per tick (agent.dt = " + text(tick_dt) + " s)");
+  };
+  if (model == EncounterModel::physical) {
+    events("arena.tumble_rate", tumble_rate, tumble_rate * tick_dt, "tumbles");
+  } else {
+    events("model.lambda_p", lambda_p, 2.0 * delta * v * lambda_p * tick_dt, "pick-ups");
+    events("model.lambda_d", lambda_d, 2.0 * delta * v * lambda_d * tick_dt, "drop-offs");
+  }
   require_positive("arena.unblock_time", unblock_time, "s");
-  require_non_negative("arena.lambda_in", lambda_in, "robots/(m^2 s)");
+  require_non_negative("agent.lambda_in", lambda_in, "robots/(m^2 s)");
   require(std::isfinite(missed_onsets) && missed_onsets >= 0.0 && missed_onsets <= 1.0, "arena.missed_onsets",
           missed_onsets, "must be in [0, 1] (a probability per onset)");
   require_non_negative("arena.false_onsets", false_onsets, "1/s");
@@ -192,9 +217,13 @@ void WorldParams::validate() const {
 
   // Domain.
   const double inset = walk_inset(*this);
+  const std::string too_large = "must be <= " + text(max_extent) +
+                                " m (a larger arena leaves a double too coarse for a physics step)";
   if (domain_shape == DomainShape::ellipse) {
     require_positive("arena.semi_axis_x", semi_axis_x, "m");
     require_positive("arena.semi_axis_y", semi_axis_y, "m");
+    require(semi_axis_x <= max_extent, "arena.semi_axis_x", semi_axis_x, too_large);
+    require(semi_axis_y <= max_extent, "arena.semi_axis_y", semi_axis_y, too_large);
     require(semi_axis_x > 2.0 * inset, "arena.semi_axis_x", semi_axis_x,
             "must be > " + text(2.0 * inset) + " m (twice the walk inset r + l + margin)");
     require(semi_axis_y > 2.0 * inset, "arena.semi_axis_y", semi_axis_y,
@@ -202,6 +231,8 @@ void WorldParams::validate() const {
   } else {
     require_positive("arena.width", width, "m");
     require_positive("arena.height", height, "m");
+    require(width <= max_extent, "arena.width", width, too_large);
+    require(height <= max_extent, "arena.height", height, too_large);
     require(width > 4.0 * inset, "arena.width", width,
             "must be > " + text(4.0 * inset) + " m (four times the walk inset r + l + margin)");
     require(height > 4.0 * inset, "arena.height", height,
@@ -226,6 +257,24 @@ void WorldParams::validate() const {
             "must be <= " + std::to_string(fit - robots_inside) +
                 " (robots_inside + robots_waiting may all be inside at once; at most " +
                 std::to_string(fit) + " fit)");
+  }
+  require(robots_inside <= max_start_robots, "arena.robots_inside", robots_inside,
+          "must be <= " + std::to_string(max_start_robots) + " (robots a run starts with)");
+  require(static_cast<double>(robots_inside) + robots_waiting <= max_start_robots, "arena.robots_waiting",
+          robots_waiting,
+          "must be <= " + std::to_string(max_start_robots - robots_inside) + " (robots_inside + robots_waiting, " +
+              "the robots a run starts with, each with its agent, at most " + std::to_string(max_start_robots) + ")");
+
+  // Task locations (physical world): each is a point the world holds for the whole run.
+  if (model == EncounterModel::physical) {
+    const double area = domain_area(*this);
+    const auto locations = [&](std::string_view key, double density, std::string_view what) {
+      require(density * area <= max_task_locations, key, density,
+              "must be <= " + text(max_task_locations / area) + " 1/m^2 in this arena (|D| = " + text(area) +
+                  " m^2): at most " + text(max_task_locations) + " " + std::string(what) + " locations");
+    };
+    locations("model.lambda_p", lambda_p, "pick-up");
+    locations("model.lambda_d", lambda_d, "drop-off");
   }
 }
 

@@ -145,6 +145,20 @@ TEST(PhysicsCollectionTask, APickUpTakesTheNearestLocationWithinDeltaWhateverThe
   }
 }
 
+TEST(PhysicsCollectionTask, AnArenaAsLargeAsAllowedWithoutLocationsIndexesNothing) {
+  // No location: the index's cells had the 1 m side of an empty set, 4·10¹² of them (bad_alloc).
+  // It now has at most 64, whatever the arena.
+  Rng rng(3);
+  const Domain d = Domain::rectangle(2e6, 2e6);
+  CollectionTask task(d, 0.0, 0.0, 0.1, rng);
+  EXPECT_TRUE(task.pickups().empty());
+  EXPECT_TRUE(task.dropoffs().empty());
+  for (const Vec2& p : {Vec2(0.0, 0.0), Vec2(-9.9e5, 9.9e5), Vec2(1e6, -1e6)}) {
+    EXPECT_FALSE(task.try_pick_up(p, rng));
+    EXPECT_FALSE(task.can_drop_off(p));
+  }
+}
+
 TEST(PhysicsInflux, SteadyArrivalsComeEveryInverseRateSeconds) {
   Rng rng(4);
   Influx influx(InfluxKind::steady, 0.0603, rng);

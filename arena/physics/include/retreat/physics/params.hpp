@@ -113,14 +113,16 @@ struct WorldParams {
   /// Checks every field and the cross-field conditions: r < δ, 2r ≤ D_s, v ≤ max_speed,
   /// l < r + δ, physics_dt ≤ tick_dt in a whole number of steps, the walk region is not empty,
   /// robots_inside (and, with a finite queue, robots_inside + robots_waiting) ≤ max_robots(),
-  /// an endless queue shows ≥ 1 robot. Physical world only: D_s < 2δ (or no encounter can
-  /// begin), v ≤ l·max_turn_rate (the walk needs q fully actuated at speed v),
+  /// an endless queue shows ≥ 1 robot, and the limits below (max_extent, max_start_robots,
+  /// max_substeps_per_tick, max_events_per_tick; max_task_locations in the physical world).
+  /// Physical world only: D_s < 2δ (or no encounter can begin), v ≤ l·max_turn_rate (the walk
+  /// needs q fully actuated at speed v),
   /// max_speed·physics_dt ≤ δ/4, max_turn_rate·physics_dt ≤ 0.5, boundary_gain·physics_dt ≤ 1.
   /// Kinetic world only: ρ > 0. Sensing noise (both worlds): missed_onsets in [0, 1],
   /// false_onsets finite and >= 0. External robots: physical world only, at most robots_inside,
   /// 0 < external_frozen_after <= external_lost_after, external_max_speed > 0.
   /// @throws std::invalid_argument with one line naming the first bad key, its value and the
-  ///         allowed range, e.g. `arena.physics_dt = 0.007: must divide arena.tick_dt (0.03 s) into
+  ///         allowed range, e.g. `arena.physics_dt = 0.007: must divide agent.dt (0.03 s) into
   ///         a whole number of steps`.
   void validate() const;
 
@@ -160,10 +162,30 @@ struct WorldParams {
   }
 };
 
+/// Limits that keep what a world allocates at its start, and the work of one tick, bounded
+/// whatever a scenario asks for (validate() checks them; each is far above any swarm the
+/// framework was measured with: 10⁵ robots, docs/benchmarks.md).
+/// Semi-axes, width and height [m]: beyond this a double is too coarse for a physics step's
+/// motion near the boundary (2 mm at 0.2 m/s, against an ulp of 1.2e-10 m at 10⁶ m).
+inline constexpr double max_extent = 1e6;
+/// robots_inside + robots_waiting: every one of them (and its agent) exists from the start.
+inline constexpr std::uint32_t max_start_robots = 1'000'000;
+/// round(λ_p·|D|) pick-up and round(λ_d·|D|) drop-off locations, each (physical world).
+inline constexpr double max_task_locations = 1e6;
+/// Physics steps in one tick, round(tick_dt / physics_dt).
+inline constexpr double max_substeps_per_tick = 1e6;
+/// Expected events of one robot in one tick that the world draws one by one: tumbles
+/// (tumble_rate·tick_dt, physical world), pick-ups and drop-offs (2δvλ_p·tick_dt and
+/// 2δvλ_d·tick_dt, kinetic world).
+inline constexpr double max_events_per_tick = 1e3;
+
 /// Maximal robot count a world accepts: the robots' safety discs (diameter D_s) may cover at most
 /// 40 % of the walkable area (D shrunk by r + l). Random sequential placement reaches 40 %
-/// quickly; its jamming limit is 54.7 %.
+/// quickly; its jamming limit is 54.7 %. Saturates at the largest std::uint32_t.
 std::uint32_t max_robots(const WorldParams& params);
+
+/// |D| [m²]: the area of the ellipse or rectangle @p params describes.
+double domain_area(const WorldParams& params);
 
 /// Physics substeps per tick, round(tick_dt / physics_dt). Precondition: validate() passed.
 std::int64_t substeps_per_tick(const WorldParams& params);

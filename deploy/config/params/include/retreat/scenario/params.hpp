@@ -155,7 +155,13 @@ struct Scenario {
 /// Copies shared values into the sections that need them (arena.tick_dt = agent.dt, ...).
 void resolve(Scenario& scenario);
 
-/// Validates every section and the cross-section rules; throws ConfigError.
+/// Expected arrivals over a run, agent.lambda_in·|D|·run.duration, at most: the arena draws
+/// every arrival, and in an endless queue each one that enters is a robot (with its agent) for
+/// the rest of the run. A run of steady-influx.yaml has about 217.
+inline constexpr double max_arrivals_per_run = 1e7;
+
+/// Validates every section and the cross-section rules (among them max_arrivals_per_run);
+/// throws ConfigError.
 void validate(const Scenario& scenario);
 
 /// Every key a scenario file may contain (`section.key` or top-level `key`), in file order.
