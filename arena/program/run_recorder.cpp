@@ -18,6 +18,7 @@
 #include "retreat/core/paths.hpp"
 #include "retreat/model/optimum.hpp"
 #include "retreat/physics/domain.hpp"
+#include "retreat/physics/params.hpp"
 
 namespace retreat::arena {
 namespace {
@@ -240,8 +241,7 @@ void RunRecorder::finish(const physics::World& world, const std::vector<AgentRec
     }
   }
   const auto& p = world.params();
-  const auto domain = p.shape == physics::DomainShape::ellipse ? physics::Domain::ellipse(p.semi_axis_x, p.semi_axis_y)
-                                           : physics::Domain::rectangle(p.width, p.height);
+  const auto domain = physics::domain_of(p);
   const double lambda_star = model::lambda_star(scenario_.model);
   // The last 300 s of run.duration. A swarm that emptied (nobody inside, driving out or
   // waiting) ends the run early and stays empty: its missing ticks count as zero robots, so the

@@ -15,14 +15,10 @@
 #include "retreat/model/optimum.hpp"
 #include "retreat/model/population.hpp"
 #include "retreat/physics/domain.hpp"
+#include "retreat/physics/params.hpp"
 
 namespace retreat::experiment {
 namespace {
-
-double area_of(const physics::WorldParams& a) {
-  return a.shape == physics::DomainShape::ellipse ? physics::Domain::ellipse(a.semi_axis_x, a.semi_axis_y).area()
-                                                  : physics::Domain::rectangle(a.width, a.height).area();
-}
 
 /// Arrivals of the chain: the arena's schedule (see predicted_population).
 struct Arrivals {
@@ -56,7 +52,7 @@ struct ChainRobot {
 
 std::vector<double> robot_by_robot_chain(const scenario::Scenario& s, const std::string& controller, double duration,
                                          std::uint32_t runs, unsigned jobs) {
-  const double area = area_of(s.arena);
+  const double area = physics::domain_of(s.arena).area();
   const double c = model::swept_rate(s.model);
   const auto& agent = s.agent;
   const Arrivals arrivals = arrivals_of(s, area);
@@ -125,7 +121,7 @@ std::optional<std::vector<double>> predicted_population(const scenario::Scenario
   // the chain's N is all the state it needs.
   const auto rule = agent::make_controller(controller);
   if (!rule->count_only()) return std::nullopt;
-  const double area = area_of(s.arena);
+  const double area = physics::domain_of(s.arena).area();
   const double c = model::swept_rate(s.model);
   const auto& agent = s.agent;
   const agent::OnsetWindow window(agent.L);

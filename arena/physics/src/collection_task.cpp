@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "retreat/physics/neighbour_grid.hpp"
+
 namespace retreat::physics {
 
 CollectionTask::CollectionTask(const Domain& domain, double lambda_p, double lambda_d, double delta,
@@ -20,11 +22,9 @@ void CollectionTask::init(PointSet& set, std::size_t count, double density, Rng&
   // At most max(64, 2·count) cells, whatever the arena's size: a query's answer does not depend
   // on the cell size (any side >= 2δ), only the index's memory does.
   const Vec2& half = domain_.half_extent();
-  set.cell = std::max(2.0 * delta_, density > 0.0 ? 1.0 / std::sqrt(density) : 1.0);
-  const double max_cells = std::max(64.0, 2.0 * static_cast<double>(count));
-  while (std::ceil(2.0 * half.x() / set.cell) * std::ceil(2.0 * half.y() / set.cell) > max_cells) {
-    set.cell *= 1.25;
-  }
+  const double sparse_cell = density > 0.0 ? 1.0 / std::sqrt(density) : 1.0;
+  set.cell = cell_size_within(2.0 * half, std::max(2.0 * delta_, sparse_cell),
+                              std::max(64.0, 2.0 * static_cast<double>(count)));
   set.nx = std::max(1, static_cast<int>(std::ceil(2.0 * half.x() / set.cell)));
   set.ny = std::max(1, static_cast<int>(std::ceil(2.0 * half.y() / set.cell)));
   set.cells.assign(static_cast<std::size_t>(set.nx) * static_cast<std::size_t>(set.ny), {});

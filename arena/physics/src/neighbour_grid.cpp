@@ -5,15 +5,19 @@
 
 namespace retreat::physics {
 
+double cell_size_within(const Vec2& extent, double min_cell_size, double max_cells) {
+  double cell = min_cell_size;
+  while (std::ceil(extent.x() / cell) * std::ceil(extent.y() / cell) > max_cells) {
+    cell *= 1.25;
+  }
+  return cell;
+}
+
 NeighbourGrid::NeighbourGrid(const Vec2& lo, const Vec2& hi, double min_cell_size,
                              std::size_t max_cells)
-    : lo_(lo), cell_(min_cell_size) {
+    : lo_(lo) {
   const Vec2 extent = (hi - lo).cwiseMax(Vec2::Constant(1e-9));
-  // Enlarge the cells until there are at most max_cells of them.
-  while (std::ceil(extent.x() / cell_) * std::ceil(extent.y() / cell_) >
-         static_cast<double>(max_cells)) {
-    cell_ *= 1.25;
-  }
+  cell_ = cell_size_within(extent, min_cell_size, static_cast<double>(max_cells));
   inv_cell_ = 1.0 / cell_;
   nx_ = std::max(1, static_cast<int>(std::ceil(extent.x() / cell_)));
   ny_ = std::max(1, static_cast<int>(std::ceil(extent.y() / cell_)));

@@ -58,11 +58,6 @@ void require_named(std::string_view key, E value) {
   }
 }
 
-Domain domain_of(const WorldParams& p) {
-  return p.shape == DomainShape::ellipse
-             ? Domain::ellipse(p.semi_axis_x, p.semi_axis_y)
-             : Domain::rectangle(p.width, p.height);
-}
 
 }  // namespace
 
@@ -103,7 +98,10 @@ double walk_inset(const WorldParams& params) {
          params.v * (2.0 * params.physics_dt + 1.0 / params.boundary_gain);
 }
 
-double domain_area(const WorldParams& params) { return domain_of(params).area(); }
+Domain domain_of(const WorldParams& params) {
+  return params.shape == DomainShape::ellipse ? Domain::ellipse(params.semi_axis_x, params.semi_axis_y)
+                                              : Domain::rectangle(params.width, params.height);
+}
 
 std::uint32_t max_robots(const WorldParams& params) {
   const double disc = pi * 0.25 * params.safety_distance * params.safety_distance;
@@ -267,7 +265,7 @@ void WorldParams::validate() const {
 
   // Task locations (physical world): each is a point the world holds for the whole run.
   if (model == EncounterModel::physical) {
-    const double area = domain_area(*this);
+    const double area = domain_of(*this).area();
     const auto locations = [&](std::string_view key, double density, std::string_view what) {
       require(density * area <= max_task_locations, key, density,
               "must be <= " + text(max_task_locations / area) + " 1/m^2 in this arena (|D| = " + text(area) +

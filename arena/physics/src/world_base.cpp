@@ -7,15 +7,9 @@
 
 namespace retreat::physics::detail {
 
-Domain make_domain(const WorldParams& params) {
-  return params.shape == DomainShape::ellipse
-             ? Domain::ellipse(params.semi_axis_x, params.semi_axis_y)
-             : Domain::rectangle(params.width, params.height);
-}
-
 WorldBase::WorldBase(const WorldParams& params)
     : params_(params),
-      domain_(make_domain(params)),
+      domain_(domain_of(params)),
       world_rng_(retreat::seed_for(params.seed, -1, retreat::Stream::world)),
       influx_(params.influx, params.lambda_in * domain_.area(), world_rng_),
       queue_kind_(params.queue) {}

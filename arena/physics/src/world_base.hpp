@@ -108,7 +108,4 @@ class WorldBase : public World {
   std::size_t framed_ = 0;
 };
 
-/// The domain a WorldParams describes.
-Domain make_domain(const WorldParams& params);
-
 }  // namespace retreat::physics::detail

@@ -2,14 +2,13 @@
 
 #include "retreat/model/optimum.hpp"
 #include "retreat/physics/domain.hpp"
+#include "retreat/physics/params.hpp"
 
 namespace retreat::report {
 
 telemetry::RunInfo run_info(const scenario::Scenario& s) {
   const auto& a = s.arena;
-  const bool ellipse = a.shape == physics::DomainShape::ellipse;
-  const auto domain = ellipse ? physics::Domain::ellipse(a.semi_axis_x, a.semi_axis_y)
-                              : physics::Domain::rectangle(a.width, a.height);
+  const auto domain = physics::domain_of(a);
   telemetry::RunInfo r;
   r.scenario = s.name;
   r.mode = retreat::name_of(s.run.mode);

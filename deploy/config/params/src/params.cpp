@@ -181,7 +181,7 @@ void validate(const Scenario& s) {
   as_config_error([&] { s.agent.validate(); });
   as_config_error([&] { s.arena.validate(); });
   validate_run(s.run);
-  const double area = physics::domain_area(s.arena);
+  const double area = physics::domain_of(s.arena).area();
   const double arrivals = s.agent.lambda_in * area * s.run.duration;
   check(arrivals <= max_arrivals_per_run, "agent.lambda_in", num(s.agent.lambda_in),
         "must be <= " + num(max_arrivals_per_run / (area * s.run.duration)) + " robots/(m^2 s) with this arena (|D| = " +

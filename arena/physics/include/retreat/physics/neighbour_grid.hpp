@@ -10,6 +10,10 @@
 
 namespace retreat::physics {
 
+/// The side of square cells over a rectangle of size @p extent: @p min_cell_size, enlarged in
+/// steps of 1.25× until there are at most @p max_cells of them.
+double cell_size_within(const Vec2& extent, double min_cell_size, double max_cells);
+
 /// A uniform grid over a fixed rectangle, rebuilt from scratch for each snapshot by a counting
 /// sort (O(points + cells)). Any two points closer than cell_size() lie in the same or adjacent
 /// cells, so a query visits the 3×3 block around a point. Points outside the rectangle are

@@ -9,6 +9,7 @@
 #include <string_view>
 
 #include "retreat/core/enum_names.hpp"
+#include "retreat/physics/domain.hpp"
 
 namespace retreat::physics {
 
@@ -184,8 +185,8 @@ inline constexpr double max_events_per_tick = 1e3;
 /// quickly; its jamming limit is 54.7 %. Saturates at the largest std::uint32_t.
 std::uint32_t max_robots(const WorldParams& params);
 
-/// |D| [m²]: the area of the ellipse or rectangle @p params describes.
-double domain_area(const WorldParams& params);
+/// D: the ellipse or rectangle @p params describes.
+Domain domain_of(const WorldParams& params);
 
 /// Physics substeps per tick, round(tick_dt / physics_dt). Precondition: validate() passed.
 std::int64_t substeps_per_tick(const WorldParams& params);
