@@ -268,4 +268,28 @@ std::optional<std::string> capacity_refusal(const Plan& plan, const scenario::Sc
   return std::nullopt;
 }
 
+InProcessFit in_process_fit(const Plan& plan, const HostLimits& host) {
+  const auto& arena = plan.scenario.arena;
+  const std::uint64_t robots = std::uint64_t{arena.robots_inside} + arena.robots_waiting;
+  const std::uint64_t per_run = robots * in_process_robot_memory_estimate;
+  const auto wanted = static_cast<unsigned>(std::min<std::size_t>(plan.jobs, std::max<std::size_t>(plan.seeds.size(), 1)));
+  const std::uint64_t fits = per_run == 0 ? wanted : std::min<std::uint64_t>(wanted, host.memory_available / per_run);
+  const std::string need = std::to_string(robots) + " robots (arena.robots_inside + arena.robots_waiting) with their agents need about " +
+                           mib(per_run) + " of memory a run";
+  const std::string have = mib(host.memory_available) + " is available (MemAvailable)";
+  InProcessFit fit;
+  fit.jobs = static_cast<unsigned>(fits);
+  if (fits == 0) {
+    fit.refusal = need + " in process, and " + have + ": run fewer robots, or the swarm as processes spread over several hosts";
+  } else if (fits < wanted && plan.options.jobs) {
+    fit.refusal = "--jobs " + std::to_string(*plan.options.jobs) + ": " + need + ", " + std::to_string(wanted) +
+                  " at once about " + mib(per_run * wanted) + ", and " + have + ": at most --jobs " + std::to_string(fits) +
+                  " fits";
+  } else if (fits < wanted) {
+    fit.notice = std::to_string(fits) + (fits == 1 ? " seed" : " seeds") + " at a time, not " + std::to_string(wanted) +
+                 " (the core count): " + need + ", and " + have;
+  }
+  return fit;
+}
+
 }  // namespace retreat::launch

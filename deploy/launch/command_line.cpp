@@ -34,7 +34,7 @@ std::variant<LaunchCommandLine, int> parse_command_line(int argc, char** argv,
   auto* jobs_opt = app.add_option(
       "--jobs", jobs,
       "with --in-process and --seeds: seeds run at once, one thread each (default: the core "
-      "count); the runs are the same as one after another");
+      "count, or fewer if the host's memory holds fewer); the runs are the same as one after another");
   app.add_option("--bin-dir", o.bin_dir,
                  "where retreat-arena, retreat-agent and retreat-bridge "
                  "are (default: next to retreat-launch)");

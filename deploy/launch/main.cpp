@@ -155,15 +155,16 @@ void announce(const launch::Plan& plan, int domain, const std::string& out) {
 }
 
 /// Runs every seed of the plan into `out` (OUT/seed_<n>/ for several); returns the exit code.
-/// In process, plan.jobs seeds run at once, one thread each: every run has its own world, bus
+/// In process, @p seeds_at_once seeds (plan.jobs, or fewer when the host's memory holds fewer:
+/// launch::in_process_fit) run at once, one thread each: every run has its own world, bus
 /// and directory, so each is the same as it would be alone. Results are reported in seed order.
-int run_seeds(const launch::Plan& plan, const std::string& out, int domain) {
+int run_seeds(const launch::Plan& plan, const std::string& out, int domain, unsigned seeds_at_once) {
   const bool in_process = plan.options.in_process;
   const std::size_t n = plan.seeds.size();
   const auto dir_of = [&](std::size_t i) {
     return plan.multi_seed ? out + "/seed_" + std::to_string(plan.seeds[i]) : out;
   };
-  const unsigned jobs = static_cast<unsigned>(std::min<std::size_t>(plan.jobs, n));
+  const unsigned jobs = static_cast<unsigned>(std::min<std::size_t>(seeds_at_once, n));
   std::vector<std::optional<launch::RunOutcome>> results(n);
   std::vector<nlohmann::json> summaries;
   std::mutex mutex;  // guards results, summaries, reported, halt, failure and stderr
@@ -243,7 +244,17 @@ int main(int argc, char** argv) {
     return 0;
   }
   std::optional<launch::DomainLock> lock;
-  if (!plan.options.in_process) {
+  unsigned seeds_at_once = plan.jobs;
+  if (plan.options.in_process) {
+    // Before anything starts: robots this host cannot hold are refused, not left to the OOM killer.
+    const auto fit = launch::in_process_fit(plan, launch::read_host_limits());
+    if (fit.refusal) {
+      std::fprintf(stderr, "retreat-launch: %s\n", fit.refusal->c_str());
+      return 2;
+    }
+    if (fit.notice) std::fprintf(stderr, "retreat-launch: %s\n", fit.notice->c_str());
+    seeds_at_once = fit.jobs;
+  } else {
     // Before anything starts: a run this host cannot hold is refused, not left to lose agents.
     try {
       if (const auto refusal = launch::capacity_refusal(plan, plan.scenario, launch::agent_processes(plan, plan.scenario),
@@ -262,7 +273,7 @@ int main(int argc, char** argv) {
   const std::string out = plan.options.out_dir.empty() ? default_out_dir() : plan.options.out_dir;
   if (lock) announce(plan, lock->domain(), out);
   try {
-    return run_seeds(plan, out, lock ? lock->domain() : -1);
+    return run_seeds(plan, out, lock ? lock->domain() : -1, seeds_at_once);
   } catch (const launch::RunFailure& e) {
     std::fprintf(stderr, "retreat-launch: run failed: %s\n", e.what());
     return 1;

@@ -79,6 +79,26 @@ TEST(LaunchInput, AScenarioThatWouldHangOrExhaustMemoryIsRefusedInOneLineNamingI
   }
 }
 
+TEST(LaunchInput, InProcessRobotsTheHostsMemoryCannotHoldAreRefusedBeforeAnythingStarts) {
+  // 64 seeds at once of 10^6 robots: about 64 · 15.3 GiB, beyond any host this suite runs on (the
+  // unit tests cover a lowered default and a single run too big). Before this check such a launch
+  // started and was killed by the kernel's OOM killer part-way, its runs lost.
+  const auto dir = fresh_dir("input-in-process-memory");
+  EXPECT_EQ(run_launch(dir, {scenarios + "/kinetic-1000.yaml", "--in-process", "--no-bridge", "--seeds", "1:64",
+                             "--jobs", "64", "--set", "arena.robots_inside=1000000", "--set", "arena.width=790",
+                             "--set", "arena.height=790"}),
+            2)
+      << log_of(dir);
+  const auto log = log_of(dir);
+  EXPECT_EQ(log.rfind("retreat-launch: --jobs 64: 1000000 robots (arena.robots_inside + arena.robots_waiting) with "
+                      "their agents need about 15625 MiB of memory a run, 64 at once about 1000000 MiB",
+                      0),
+            0u)
+      << log;
+  EXPECT_EQ(std::count(log.begin(), log.end(), '\n'), 1) << "one line: " << log;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/run")) << "something was started";
+}
+
 TEST(LaunchInput, ASwarmBeyondWhatItsDdsSettingsDiscoverIsRefusedWithTheLimitAndTheWayOut) {
   // kinetic-1000 without a bridge: 1,000 agents, the arena and the launcher, with the built-in settings
   // (participant indices 0..119 per domain); the unit tests cover profiles, tasks and memory.

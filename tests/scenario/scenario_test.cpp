@@ -112,11 +112,21 @@ TEST(ScenarioLoader, OutOfRangeValuesNameTheKeyTheValueAndTheRange) {
   expect_error("", {"dds.domains=65"}, "dds.domains = 65: must be an integer in 1..64");
   expect_error("", {"dds.domain=230", "dds.domains=4"}, "dds.domains = 4: must be an integer in 1..3");
   expect_error("", {"bridge.http=localhost"}, "bridge.http = 'localhost': must be HOST:PORT");
-  // Arrivals over the run (agent.lambda_in·|D|·run.duration) at most 10⁷: an influx of 1e300 hung
-  // the arena in its loop over the arrivals; a year of the default influx is refused the same way.
-  expect_error("", {"agent.lambda_in=1e300"}, "agent.lambda_in = 1e+300: must be <= ");
-  expect_error("", {"run.duration=2e8"}, "agent.lambda_in = 0.02: must be <= 0.01657");
-  expect_error("", {"run.duration=2e8"}, "and run.duration = 2e+08 s: 12063715.7");
+  // Arrivals drawn in a tick (agent.lambda_in·|D|·agent.dt) at most 10⁵, whatever the queue: an
+  // influx of 1e300 hung the arena in its loop over the arrivals.
+  expect_error("", {"agent.lambda_in=1e300"}, "agent.lambda_in = 1e+300: must be <= 1105242.66");
+  expect_error("", {"agent.lambda_in=1e300"}, "at most 100000 arrivals expected per tick (agent.dt = 0.03 s)");
+  // With an endless queue every arrival is a robot for the rest of the run: at most 10⁷ of them
+  // (agent.lambda_in·|D|·run.duration). A year of the default influx is refused that way...
+  expect_error("", {"arena.queue=endless", "run.duration=2e8"}, "agent.lambda_in = 0.02: must be <= 0.01657");
+  expect_error("", {"arena.queue=endless", "run.duration=2e8"},
+               "run.duration = 2e+08 s and arena.queue = endless: 12063715.7");
+  // ... but not with a finite queue, whose arrivals beyond its robots are dropped: 10⁶ robots in
+  // the kinetic world for the default 1,200 s with the controller's default λ_in (it was refused).
+  EXPECT_NO_THROW(parse("", {"run.duration=2e8"}));
+  EXPECT_NO_THROW(parse("", {"arena.encounter_model=kinetic", "arena.shape=rectangle", "arena.width=790",
+                             "arena.height=790", "arena.robots_inside=1000000", "arena.robots_waiting=0",
+                             "run.duration=1200"}));
   expect_error("", {"arena.semi_axis_x=2e6"}, "arena.semi_axis_x = 2000000: must be <= 1000000 m");
   expect_error("", {"dds.prefix=a//b"}, "dds.prefix = 'a//b'");
   expect_error("", {"dds.security=yes"}, "dds.security = 'yes': must be on or off");

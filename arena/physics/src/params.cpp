@@ -263,9 +263,16 @@ void WorldParams::validate() const {
           "must be <= " + std::to_string(max_start_robots - robots_inside) + " (robots_inside + robots_waiting, " +
               "the robots a run starts with, each with its agent, at most " + std::to_string(max_start_robots) + ")");
 
+  const double area = domain_of(*this).area();
+  // Arrivals: the influx draws them one by one, whatever the queue (a finite one drops those
+  // with nobody left to send).
+  require(lambda_in * area * tick_dt <= max_arrivals_per_tick, "agent.lambda_in", lambda_in,
+          "must be <= " + text(max_arrivals_per_tick / (area * tick_dt)) + " robots/(m^2 s) in this arena (|D| = " +
+              text(area) + " m^2): at most " + text(max_arrivals_per_tick) + " arrivals expected per tick (agent.dt = " +
+              text(tick_dt) + " s)");
+
   // Task locations (physical world): each is a point the world holds for the whole run.
   if (model == EncounterModel::physical) {
-    const double area = domain_of(*this).area();
     const auto locations = [&](std::string_view key, double density, std::string_view what) {
       require(density * area <= max_task_locations, key, density,
               "must be <= " + text(max_task_locations / area) + " 1/m^2 in this arena (|D| = " + text(area) +

@@ -175,6 +175,7 @@ TEST(PhysicsParams, TheLimitsAreInclusiveAndTheLocationLimitIsThePhysicalWorldsO
   WorldParams p;
   p.semi_axis_x = max_extent;
   p.semi_axis_y = max_extent;
+  p.lambda_in = 0;  // no influx: the default's arrivals in this arena are refused on their own (below)
   p.lambda_p = max_task_locations / domain_of(p).area();  // exactly the most locations
   p.lambda_d = 0;
   EXPECT_NO_THROW(p.validate()) << message_of(p);
@@ -193,6 +194,17 @@ TEST(PhysicsParams, TheLimitsAreInclusiveAndTheLocationLimitIsThePhysicalWorldsO
   EXPECT_NE(message_of(p).find("at most 1000 tumbles expected per robot per tick (agent.dt = 0.03 s)"),
             std::string::npos)
       << message_of(p);
+  // The arrivals a tick draws one by one, either queue: exactly the most is allowed.
+  for (const QueueKind queue : {QueueKind::finite, QueueKind::endless}) {
+    p = WorldParams{};
+    p.queue = queue;
+    p.lambda_in = max_arrivals_per_tick / (domain_of(p).area() * p.tick_dt);
+    EXPECT_NO_THROW(p.validate()) << message_of(p);
+    p.lambda_in = std::nextafter(p.lambda_in, 1e300);
+    EXPECT_EQ(message_of(p).rfind("agent.lambda_in = ", 0), 0u) << message_of(p);
+    EXPECT_NE(message_of(p).find("at most 100000 arrivals expected per tick (agent.dt = 0.03 s)"), std::string::npos)
+        << message_of(p);
+  }
 }
 
 TEST(PhysicsParams, MaxRobotsSaturatesInAnArenaTooLargeToCount) {

@@ -160,6 +160,58 @@ TEST(CapacityRefusal, TooFewTasksOrTooLittleMemoryIsRefusedWithTheLimit) {
   EXPECT_NE(memory->find("100 MiB"), std::string::npos) << *memory;
 }
 
+/// An in-process plan of @p robots at the start (@p waiting of them queued), @p seeds seeds and
+/// @p jobs at once (given on the command line when @p given, else the default).
+Plan in_process_plan(std::uint32_t robots, std::uint32_t waiting, std::size_t seeds, unsigned jobs, bool given) {
+  Plan p;
+  p.options.in_process = true;
+  if (given) p.options.jobs = jobs;
+  p.jobs = jobs;
+  p.scenario.arena.robots_inside = robots - waiting;
+  p.scenario.arena.robots_waiting = waiting;
+  for (std::size_t i = 0; i < seeds; ++i) p.seeds.push_back(i + 1);
+  return p;
+}
+
+TEST(InProcessFit, RobotsAtTheStartTimesTheRunsAtOnceMustFitTheAvailableMemory) {
+  // 10^6 robots: 10^6 · 16 KiB = 15625 MiB a run. 20000 MiB available: one run fits, two do not.
+  const HostLimits host{std::uint64_t{20000} << 20, 1u << 30, 100};
+  EXPECT_EQ(in_process_robot_memory_estimate, 16u << 10);
+
+  const auto lowered = in_process_fit(in_process_plan(1000000, 2, 100, 2, false), host);
+  EXPECT_EQ(lowered.jobs, 1u) << "the default (the core count) is lowered to what fits";
+  EXPECT_FALSE(lowered.refusal);
+  ASSERT_TRUE(lowered.notice);
+  EXPECT_EQ(*lowered.notice,
+            "1 seed at a time, not 2 (the core count): 1000000 robots (arena.robots_inside + arena.robots_waiting) "
+            "with their agents need about 15625 MiB of memory a run, and 20000 MiB is available (MemAvailable)");
+
+  const auto given = in_process_fit(in_process_plan(1000000, 0, 100, 2, true), host);
+  ASSERT_TRUE(given.refusal) << "a --jobs that was asked for is not lowered behind the user's back";
+  EXPECT_EQ(given.refusal->rfind("--jobs 2: 1000000 robots", 0), 0u) << *given.refusal;
+  EXPECT_NE(given.refusal->find("2 at once about 31250 MiB"), std::string::npos) << *given.refusal;
+  EXPECT_NE(given.refusal->find("at most --jobs 1 fits"), std::string::npos) << *given.refusal;
+
+  // One seed runs alone whatever --jobs says: nothing to lower or refuse.
+  const auto one_seed = in_process_fit(in_process_plan(1000000, 0, 1, 4, true), host);
+  EXPECT_EQ(one_seed.jobs, 1u);
+  EXPECT_FALSE(one_seed.refusal);
+  EXPECT_FALSE(one_seed.notice);
+
+  const auto none = in_process_fit(in_process_plan(1000000, 0, 3, 1, true), {std::uint64_t{15000} << 20, 1u << 30, 100});
+  ASSERT_TRUE(none.refusal) << "not even one run fits";
+  EXPECT_EQ(*none.refusal,
+            "1000000 robots (arena.robots_inside + arena.robots_waiting) with their agents need about 15625 MiB of "
+            "memory a run in process, and 15000 MiB is available (MemAvailable): run fewer robots, or the swarm as "
+            "processes spread over several hosts");
+
+  // A Robotarium-sized swarm fits any host: every seed the plan asks for runs at once.
+  const auto small = in_process_fit(in_process_plan(12, 2, 100, 2, false), host);
+  EXPECT_EQ(small.jobs, 2u);
+  EXPECT_FALSE(small.refusal);
+  EXPECT_FALSE(small.notice);
+}
+
 // RTPS well-known ports: 7400 + 250·domain .. + 249. With Linux's default ephemeral ports
 // (32768..60999) the first block that reaches them is domain 101's (32650..32899).
 TEST(EphemeralPorts, DomainsWhosePortsReachTheEphemeralRangeAreNamedWithTheWayOut) {

@@ -183,10 +183,12 @@ void validate(const Scenario& s) {
   validate_run(s.run);
   const double area = physics::domain_of(s.arena).area();
   const double arrivals = s.agent.lambda_in * area * s.run.duration;
-  check(arrivals <= max_arrivals_per_run, "agent.lambda_in", num(s.agent.lambda_in),
-        "must be <= " + num(max_arrivals_per_run / (area * s.run.duration)) + " robots/(m^2 s) with this arena (|D| = " +
-            num(area) + " m^2) and run.duration = " + num(s.run.duration) + " s: " + num(arrivals) +
-            " robots would arrive, at most " + num(max_arrivals_per_run));
+  check(s.arena.queue == physics::QueueKind::finite || arrivals <= max_arrivals_per_run, "agent.lambda_in",
+        num(s.agent.lambda_in),
+        "must be <= " + num(max_arrivals_per_run / (area * s.run.duration)) +
+            " robots/(m^2 s) with this arena (|D| = " + num(area) + " m^2), run.duration = " + num(s.run.duration) +
+            " s and arena.queue = endless: " + num(arrivals) + " robots would join, at most " +
+            num(max_arrivals_per_run));
   validate_dds(s.dds);
   validate_bridge(s.bridge);
   check(s.arena.external_robots == 0 || (s.run.mode == RunMode::realtime && s.dds.vendor != Vendor::inmemory),

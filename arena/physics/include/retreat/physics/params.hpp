@@ -115,7 +115,8 @@ struct WorldParams {
   /// l < r + δ, physics_dt ≤ tick_dt in a whole number of steps, the walk region is not empty,
   /// robots_inside (and, with a finite queue, robots_inside + robots_waiting) ≤ max_robots(),
   /// an endless queue shows ≥ 1 robot, and the limits below (max_extent, max_start_robots,
-  /// max_substeps_per_tick, max_events_per_tick; max_task_locations in the physical world).
+  /// max_substeps_per_tick, max_events_per_tick, max_arrivals_per_tick; max_task_locations in the
+/// physical world).
   /// Physical world only: D_s < 2δ (or no encounter can begin), v ≤ l·max_turn_rate (the walk
   /// needs q fully actuated at speed v),
   /// max_speed·physics_dt ≤ δ/4, max_turn_rate·physics_dt ≤ 0.5, boundary_gain·physics_dt ≤ 1.
@@ -179,6 +180,9 @@ inline constexpr double max_substeps_per_tick = 1e6;
 /// (tumble_rate·tick_dt, physical world), pick-ups and drop-offs (2δvλ_p·tick_dt and
 /// 2δvλ_d·tick_dt, kinetic world).
 inline constexpr double max_events_per_tick = 1e3;
+/// Expected arrivals in one tick, λ_in·|D|·tick_dt: the influx draws them one by one, with a
+/// finite queue too (the scenario bounds an endless queue's arrivals over the whole run as well).
+inline constexpr double max_arrivals_per_tick = 1e5;
 
 /// Maximal robot count a world accepts: the robots' safety discs (diameter D_s) may cover at most
 /// 40 % of the walkable area (D shrunk by r + l). Random sequential placement reaches 40 %

@@ -74,6 +74,26 @@ PortRange well_known_ports(int domain);
 /// start or is not discovered. (A warning, not a refusal: most runs still find their ports free.)
 std::optional<std::string> ephemeral_port_warning(int first_domain, int count, const PortRange& ephemeral);
 
+/// Memory of one robot with its agent in an in-process run: the world's state of it, the agent
+/// node and its in-memory participant. Measured as peak RSS with robots at the start (docs/deploy.md,
+/// "Scenario limits"): 11.1 KiB a robot in the kinetic world (10⁶ robots: 10.6 GiB), 11.8 KiB in
+/// the physical world (2·10⁴ robots); this is about 1.4 times that.
+inline constexpr std::uint64_t in_process_robot_memory_estimate = 16u << 10;
+
+/// How many seeds an in-process run of a plan takes at once on a host.
+struct InProcessFit {
+  unsigned jobs = 1;                   ///< seeds at once: the plan's, or fewer that fit
+  std::optional<std::string> refusal;  ///< one line: not one run fits, or --jobs was given and does not
+  std::optional<std::string> notice;   ///< one line: the default (the core count) was lowered to fit
+};
+
+/// The in-process counterpart of capacity_refusal: the robots at the start (arena.robots_inside +
+/// arena.robots_waiting) with their agents, times the runs at once (the plan's jobs, at most one
+/// per seed), against MemAvailable. A default --jobs is lowered to what fits; a given one that does
+/// not fit is refused, naming the one that does. Robots that join later (an endless queue's, an
+/// influx's) are not counted.
+InProcessFit in_process_fit(const Plan& plan, const HostLimits& host);
+
 /// Empty when a process run of @p plan with @p agents agent processes fits @p host; otherwise
 /// the one line that says which limit it exceeds and what to do instead (for too many agents in
 /// one domain, the `dds.domains` that would hold them).

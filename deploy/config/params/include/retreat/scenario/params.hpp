@@ -155,9 +155,10 @@ struct Scenario {
 /// Copies shared values into the sections that need them (arena.tick_dt = agent.dt, ...).
 void resolve(Scenario& scenario);
 
-/// Expected arrivals over a run, agent.lambda_in·|D|·run.duration, at most: the arena draws
-/// every arrival, and in an endless queue each one that enters is a robot (with its agent) for
-/// the rest of the run. A run of steady-influx.yaml has about 217.
+/// Expected arrivals over a run with an endless queue, agent.lambda_in·|D|·run.duration, at most:
+/// each one that enters is a robot (with its agent) for the rest of the run. A run of
+/// steady-influx.yaml has about 217. (A finite queue's arrivals beyond its robots are dropped;
+/// physics::max_arrivals_per_tick bounds the draws of either.)
 inline constexpr double max_arrivals_per_run = 1e7;
 
 /// Validates every section and the cross-section rules (among them max_arrivals_per_run);
