@@ -1,5 +1,7 @@
 #include "retreat/agent/command_line.hpp"
 
+#include <cstdint>
+#include <limits>
 #include <string>
 
 #include "retreat/scenario/program_options.hpp"
@@ -11,7 +13,9 @@ std::variant<AgentCommandLine, int> parse_command_line(int argc, char** argv) {
   CLI::App app{"retreat-agent: one robot's voluntary-retreat decision layer over DDS"};
   scenario::CommonOptions common;
   AgentCommandLine out;
-  app.add_option("--robot-id", out.robot_id, "the robot this agent serves")->required();
+  scenario::add_whole_number(app, "--robot-id", out.robot_id, "the robot this agent serves", std::uint32_t{0},
+                             std::numeric_limits<std::uint32_t>::max())
+      ->required();
   app.add_option("--journal", out.journal,
                  "journal every accepted frame to FILE; a restarted agent given the same FILE resumes "
                  "its window, steps and coins where the previous process stopped");

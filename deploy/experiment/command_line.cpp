@@ -2,8 +2,11 @@
 
 #include <unistd.h>
 
+#include <charconv>
+#include <cstdint>
 #include <ctime>
 #include <filesystem>
+#include <limits>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -51,14 +54,14 @@ void add_common(CLI::App* sub, Common& c) {
 
 /// --jobs on a subcommand whose in-process seeds retreat-launch runs (robotarium, controllers, noise, sweep).
 void add_jobs(CLI::App* sub, Common& c) {
-  sub->add_option("--jobs", c.jobs,
-                  "in-process seeds run at once, 1..256, passed to retreat-launch --jobs, and the "
-                  "threads that read the runs and compute the predictions (default: the core count)");
+  scenario::add_whole_number(*sub, "--jobs", c.jobs,
+                             "in-process seeds run at once, 1..256, passed to retreat-launch --jobs, and the "
+                             "threads that read the runs and compute the predictions (default: the core count)",
+                             1u, scenario::max_jobs);
 }
 
 /// The defaults of the common options; the scenarios directory must exist.
 void finish_common(Common& c, const std::string& name) {
-  if (c.jobs) scenario::check_jobs(*c.jobs);
   if (c.out_dir.empty()) c.out_dir = default_out(name);
   if (c.scenarios_dir.empty()) c.scenarios_dir = default_scenarios();
   if (!retreat::is_directory(c.scenarios_dir)) {
@@ -96,6 +99,22 @@ std::vector<double> parse_lambdas(const std::string& text) {
   return out;
 }
 
+/// The longest --duration or --process-duration [s]: 400 times the longest default (throughput's
+/// 2,500 s), and bounded in memory: the encounter intervals of 10⁶ s of 200 robots, kept for the
+/// fit, are about 2·10⁸ numbers (1.6 GB).
+constexpr double max_seconds = 1e6;
+
+/// A duration option's value, when given: finite, > 0 and at most max_seconds.
+void require_seconds(const char* option, const std::optional<double>& seconds) {
+  if (!seconds || (*seconds > 0.0 && *seconds <= max_seconds)) return;
+  const auto text = [](double value) {
+    char buffer[32];
+    return std::string(buffer, std::to_chars(buffer, buffer + sizeof buffer, value).ptr);
+  };
+  throw UsageError(std::string(option) + " " + text(*seconds) + ": must be a number of seconds > 0 and <= " +
+                   text(max_seconds));
+}
+
 /// An option that keeps its default unless given: CLI11 parses into `raw`, `into` copies it.
 template <class T>
 struct Given {
@@ -105,10 +124,6 @@ struct Given {
     if (option->count() > 0) target = raw;
   }
 };
-
-void require_robots(const std::optional<std::uint32_t>& robots) {
-  if (robots && *robots < 2) throw UsageError("--robots " + std::to_string(*robots) + ": must be >= 2");
-}
 
 /// `encounters`: the options, then their check.
 struct EncountersLine {
@@ -122,8 +137,11 @@ struct EncountersLine {
     sub = app.add_subcommand("encounters", "inter-encounter and resolution times, fitted ρ (λ = 0.99, "
                                            "δ = 0.11, v = 1)");
     add_common(sub, o.common);
-    seed.option = sub->add_option("--seed", seed.raw, "world seed (default: the scenario's)");
-    robots.option = sub->add_option("--robots", robots.raw, "robots, at the scenario's density (default 200, quick 60)");
+    seed.option = scenario::add_whole_number(*sub, "--seed", seed.raw, "world seed (default: the scenario's)",
+                                             std::uint64_t{0}, std::numeric_limits<std::uint64_t>::max());
+    robots.option = scenario::add_whole_number(*sub, "--robots", robots.raw,
+                                               "robots, at the scenario's density (default 200, quick 60)",
+                                               std::uint32_t{2}, std::numeric_limits<std::uint32_t>::max());
     duration.option = sub->add_option("--duration", duration.raw, "measured seconds (default 100, quick 20)");
   }
   EncountersOptions finish() {
@@ -131,10 +149,7 @@ struct EncountersLine {
     seed.into(o.seed);
     robots.into(o.robots);
     duration.into(o.duration);
-    require_robots(o.robots);
-    if (o.duration && !(*o.duration > 0.0)) {
-      throw UsageError("--duration " + std::to_string(*o.duration) + ": must be > 0 (seconds)");
-    }
+    require_seconds("--duration", o.duration);
     return o;
   }
 };
@@ -151,7 +166,8 @@ struct ThroughputLine {
     sub = app.add_subcommand("throughput", "simulated T(λ)λ over a grid of λ against the CTMC curve");
     add_common(sub, o.common);
     sub->add_option("--seeds", seeds, "world seeds A:B, pooled at each density (default: the scenario's seed)");
-    robots.option = sub->add_option("--robots", robots.raw, "robots per density (default 200, quick 40)");
+    robots.option = scenario::add_whole_number(*sub, "--robots", robots.raw, "robots per density (default 200, quick 40)",
+                                               std::uint32_t{2}, std::numeric_limits<std::uint32_t>::max());
     duration.option = sub->add_option("--duration", duration.raw, "measured seconds (default 2500, quick 500)");
     sub->add_option("--lambdas", lambdas, "densities, comma-separated (default 0.25,0.5,0.75,0.99,1.5,2,3,4; "
                                           "quick 0.5,0.99,2; 0.99 is always added: ρ is fitted there)");
@@ -162,10 +178,7 @@ struct ThroughputLine {
     robots.into(o.robots);
     duration.into(o.duration);
     if (!lambdas.empty()) o.lambdas = parse_lambdas(lambdas);
-    require_robots(o.robots);
-    if (o.duration && !(*o.duration > 0.0)) {
-      throw UsageError("--duration " + fixed(*o.duration, 1) + ": must be > 0 (seconds)");
-    }
+    require_seconds("--duration", o.duration);
     return o;
   }
 };
@@ -187,7 +200,9 @@ struct RobotariumLine {
     sub->add_option("--process-seeds", process_seeds, "seeds A:B with agent processes (default 1:5, quick 1:2)");
     sub->add_flag("--no-processes", o.no_processes, "skip the set-up with agent processes");
     sub->add_option("--dds", o.dds, "vendor of the agent processes: fastdds or cyclonedds (default fastdds)");
-    domain.option = sub->add_option("--domain", domain.raw, "DDS domain of the process runs (default: a free one)");
+    domain.option = scenario::add_whole_number(*sub, "--domain", domain.raw,
+                                               "DDS domain of the process runs (default: a free one)", 0,
+                                               transport::max_domain_id);
     duration.option = sub->add_option("--process-duration", duration.raw,
                                       "simulated seconds of the process runs (default: the scenario's 1200, quick 150)");
   }
@@ -195,18 +210,13 @@ struct RobotariumLine {
     finish_common(o.common, "robotarium");
     if (!seeds.empty()) o.seeds = parse_seed_range(seeds, "--seeds");
     if (!process_seeds.empty()) o.process_seeds = parse_seed_range(process_seeds, "--process-seeds");
-    if (domain.option->count() > 0 && (domain.raw < 0 || domain.raw > 232)) {
-      throw UsageError("--domain " + std::to_string(domain.raw) + ": must be an integer in 0..232");
-    }
     domain.into(o.domain);
     duration.into(o.process_duration);
     require_launcher(o.common);
     if (o.dds != "fastdds" && o.dds != "cyclonedds") {
       throw UsageError("--dds '" + o.dds + "': must be fastdds or cyclonedds");
     }
-    if (o.process_duration && !(*o.process_duration > 0.0)) {
-      throw UsageError("--process-duration " + fixed(*o.process_duration, 1) + ": must be > 0 (seconds)");
-    }
+    require_seconds("--process-duration", o.process_duration);
     return o;
   }
 };

@@ -1,5 +1,8 @@
 #include "retreat/launch/command_line.hpp"
 
+#include <cstdint>
+#include <limits>
+
 #include "retreat/scenario/program_options.hpp"
 
 namespace retreat::launch {
@@ -19,7 +22,8 @@ std::variant<LaunchCommandLine, int> parse_command_line(int argc, char** argv,
   LaunchOptions o;
   std::uint64_t seed = 0;
   app.add_option("--out", o.out_dir, "run directory (default: runs/<timestamp>)");
-  auto* seed_opt = app.add_option("--seed", seed, "scenario seed (overrides the file's)");
+  auto* seed_opt = scenario::add_whole_number(app, "--seed", seed, "scenario seed (overrides the file's)",
+                                              std::uint64_t{0}, std::numeric_limits<std::uint64_t>::max());
   app.add_option("--seeds", o.seeds, "run seeds A:B (inclusive, e.g. 1:100) into OUT/seed_<n>/");
   app.add_flag("--no-bridge", o.no_bridge, "do not start retreat-bridge");
   app.add_flag("--in-process", o.in_process,
@@ -31,10 +35,11 @@ std::variant<LaunchCommandLine, int> parse_command_line(int argc, char** argv,
                  "record the run's DDS traffic into this MCAP file with retreat-record (with "
                  "--seeds: FILE.seed<n>.mcap); every process waits for the recorder before tick 0");
   unsigned jobs = 0;
-  auto* jobs_opt = app.add_option(
-      "--jobs", jobs,
-      "with --in-process and --seeds: seeds run at once, one thread each (default: the core "
-      "count, or fewer if the host's memory holds fewer); the runs are the same as one after another");
+  auto* jobs_opt = scenario::add_whole_number(
+      app, "--jobs", jobs,
+      "with --in-process and --seeds: seeds run at once, one thread each, 1..256 (default: the core "
+      "count, or fewer if the host's memory holds fewer); the runs are the same as one after another",
+      1u, scenario::max_jobs);
   app.add_option("--bin-dir", o.bin_dir,
                  "where retreat-arena, retreat-agent and retreat-bridge "
                  "are (default: next to retreat-launch)");

@@ -499,7 +499,26 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"sweep_set_bad_value", {"sweep", "--set", "arena.gamma=-1", "--out", "/nonexistent/out"},
                  "arena.gamma"},
         BadInput{"controller_twice", {"noise", "--controllers", "confident,confident", "--out", "/nonexistent/out"},
-                 "confident,confident"}),
+                 "confident,confident"},
+        // Whole numbers are decimal and in range: CLI11 alone read "-1" as 18446744073709551615 (a
+        // run with that seed), "0x10" as 16, and a value past the type's range as its largest.
+        BadInput{"negative_seed", {"encounters", "--seed", "-1", "--out", "/nonexistent/out"},
+                 "--seed '-1': must be a whole number in 0..18446744073709551615"},
+        BadInput{"seed_past_range", {"encounters", "--seed", "18446744073709551616", "--out", "/nonexistent/out"},
+                 "--seed '18446744073709551616'"},
+        BadInput{"one_robot", {"throughput", "--robots", "1", "--out", "/nonexistent/out"},
+                 "--robots '1': must be a whole number in 2..4294967295"},
+        BadInput{"hex_domain", {"robotarium", "--domain", "0x10", "--out", "/nonexistent/out"},
+                 "--domain '0x10': must be a whole number in 0..232"},
+        BadInput{"jobs_zero", {"controllers", "--jobs", "0", "--out", "/nonexistent/out"},
+                 "--jobs '0': must be a whole number in 1..256"},
+        // Durations are finite and bounded: inf ran nothing and failed with "too few encounters".
+        BadInput{"infinite_duration", {"encounters", "--duration", "inf", "--out", "/nonexistent/out"},
+                 "--duration inf: must be a number of seconds > 0 and <= 1e+06"},
+        BadInput{"negative_duration", {"throughput", "--duration", "-5", "--out", "/nonexistent/out"},
+                 "--duration -5: must be"},
+        BadInput{"huge_process_duration", {"robotarium", "--process-duration", "1e300", "--out", "/nonexistent/out"},
+                 "--process-duration 1e+300: must be"}),
     [](const auto& param_info) { return param_info.param.name; });
 
 // What a launcher leaves (--launcher takes any program) is read as data: a run directory whose

@@ -266,8 +266,10 @@ TEST(AgentProgramBadInput, EachBadValueGivesOneLineNamingItAndExitCodeTwo) {
       {{"--robot-id", "0", "--scenario", malformed}, "malformed YAML"},
       {{"--robot-id", "0", "--scenario", dir + "/missing.yaml"}, "missing.yaml"},
       {{"--robot-id", "99", "--scenario", good}, "--robot-id 99"},
+      {{"--robot-id", "-1", "--scenario", good}, "--robot-id '-1': must be a whole number in 0..4294967295"},
+      {{"--robot-id", "0x1", "--scenario", good}, "--robot-id '0x1': must be a whole number"},
       {{"--robot-id", "0", "--scenario", good, "--dds", "opensplice"}, "dds.vendor = 'opensplice'"},
-      {{"--robot-id", "0", "--scenario", good, "--domain", "500"}, "dds.domain = 500"},
+      {{"--robot-id", "0", "--scenario", good, "--domain", "500"}, "--domain '500': must be a whole number in 0..232"},
       {{"--robot-id", "0", "--scenario", good, "--set", "dds.profile=/nonexistent.xml"}, "dds.profile = '/nonexistent.xml'"},
   };
   for (const auto& c : cases) {

@@ -19,9 +19,11 @@ namespace {
 // joined: the launcher refuses before it takes a domain).
 constexpr int domain_held = testing::domains::launch.at(9);
 
-void expect_refused(const std::string& name, const std::vector<std::string>& args) {
+/// Refused with exit code 2 and nothing started; with @p line, in that one line.
+void expect_refused(const std::string& name, const std::vector<std::string>& args, const std::string& line = "") {
   const auto dir = fresh_dir("input-" + name);
   EXPECT_EQ(run_launch(dir, args), 2) << name << ": " << log_of(dir);
+  if (!line.empty()) EXPECT_EQ(log_of(dir), "retreat-launch: " + line + "\n") << name;
   // Refused before anything started: the run directory is made just before the first child.
   EXPECT_FALSE(std::filesystem::exists(dir + "/run")) << name << ": something was started";
 }
@@ -43,6 +45,15 @@ TEST(LaunchInput, BadInputIsRefusedWithExitCodeTwoAndNothingStarted) {
   expect_refused("jobs-zero", {robotarium, "--in-process", "--seeds", "1:2", "--jobs", "0"});
   expect_refused("jobs-too-many", {robotarium, "--in-process", "--seeds", "1:2", "--jobs", "257"});
   expect_refused("jobs-not-a-number", {robotarium, "--in-process", "--jobs", "two"});
+  // Whole numbers are decimal and in range: CLI11 alone ran "--seed -1" as seed
+  // 18446744073709551615, a seed past the range as that one too, and "--domain 0x10" on domain 16.
+  expect_refused("seed-negative", {robotarium, "--in-process", "--seed", "-1"},
+                 "--seed '-1': must be a whole number in 0..18446744073709551615");
+  expect_refused("seed-past-range", {robotarium, "--in-process", "--seed", "18446744073709551616"},
+                 "--seed '18446744073709551616': must be a whole number in 0..18446744073709551615");
+  expect_refused("domain-hex", {robotarium, "--domain", "0x10"}, "--domain '0x10': must be a whole number in 0..232");
+  expect_refused("jobs-negative", {robotarium, "--in-process", "--seeds", "1:2", "--jobs", "-1"},
+                 "--jobs '-1': must be a whole number in 1..256");
   expect_refused("jobs-in-processes", {robotarium, "--seeds", "1:2", "--jobs", "2", "--domain", "64"});
   const std::string mcap = ::testing::TempDir() + "/refused.mcap";
   expect_refused("record-in-process", {robotarium, "--in-process", "--record", mcap});

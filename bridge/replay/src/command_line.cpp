@@ -19,7 +19,8 @@ std::variant<ReplayCommandLine, int> parse_replay_command_line(int argc, char** 
   app.add_option("recording", out.recording, "the MCAP file retreat-record wrote")->required();
   app.add_option("--robots", robots, "the robots to replay: all, or ids separated by commas (0,3,7)");
   app.add_option("--dds", out.dds, "fastdds, cyclonedds or inmemory (agents in this process); default: the recording's");
-  app.add_option("--domain", out.domain, "DDS domain id 0..232; default: the recording's");
+  scenario::add_whole_number(app, "--domain", out.domain, "DDS domain id 0..232; default: the recording's", 0,
+                             transport::max_domain_id);
   app.add_option("--pace", pace, "lockstep (as fast as the agents answer) or recorded (not faster than recorded)");
   app.add_option("--controller", out.options.controller,
                  "re-decide every tick with this registered rule and report where it differs");

@@ -26,7 +26,8 @@ void add_common_options(CLI::App& app, CommonOptions& options, bool positional_s
     app.add_option("--scenario", options.scenario_path, "scenario file (YAML)")->required();
   }
   app.add_option("--dds", options.dds, "middleware: fastdds or cyclonedds (overrides dds.vendor)");
-  app.add_option("--domain", options.domain, "DDS domain id 0..232 (overrides dds.domain)");
+  add_whole_number(app, "--domain", options.domain, "DDS domain id 0..232 (overrides dds.domain)", 0,
+                   transport::max_domain_id);
   app.add_option("--set", options.overrides,
                  "override a scenario value: section.key=value (repeatable)")
       ->allow_extra_args(false);

@@ -4,12 +4,15 @@
 /// --print-config; one-line errors and exit code 2 for bad input.
 
 #include <CLI/CLI.hpp>
+#include <charconv>
 #include <chrono>
 #include <cstdint>
 #include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <system_error>
+#include <type_traits>
 #include <vector>
 
 #include "retreat/scenario/scenario.hpp"
@@ -19,6 +22,33 @@ namespace retreat::scenario {
 
 /// Prints "<program>: <message>" as one line on stderr.
 void report_error(std::string_view program, std::string_view message);
+
+/// Adds the integer option @p name to @p app, stored in @p target (a T or a std::optional<T>) only
+/// when given: a decimal whole number in @p lo..@p hi. Anything else is refused as one line
+/// "NAME 'TEXT': must be a whole number in LO..HI" (exit code 2). CLI11's own reading of an
+/// integer takes "-1" for the largest unsigned value, "010" for 8 and "0x10" for 16, and
+/// saturates a value past its type's range.
+template <class T, class Target>
+CLI::Option* add_whole_number(CLI::App& app, const std::string& name, Target& target, const std::string& description,
+                              T lo, T hi) {
+  static_assert(std::is_integral_v<T>);
+  return app
+      .add_option_function<std::string>(
+          name,
+          [&target, name, lo, hi](const std::string& text) {
+            T value{};
+            const char* first = text.data();
+            const char* last = first + text.size();
+            const auto [end, error] = std::from_chars(first, last, value);
+            if (error != std::errc() || end != last || first == last || value < lo || value > hi) {
+              throw CLI::ValidationError(name + " '" + text + "': must be a whole number in " + std::to_string(lo) +
+                                         ".." + std::to_string(hi));
+            }
+            target = value;
+          },
+          description)
+      ->type_name("INT");
+}
 
 struct CommonOptions {
   std::string scenario_path;
