@@ -2,7 +2,6 @@
 
 #include <unistd.h>
 
-#include <charconv>
 #include <cstdint>
 #include <ctime>
 #include <filesystem>
@@ -12,6 +11,7 @@
 #include <string>
 
 #include "retreat/core/paths.hpp"
+#include "retreat/model/format_number.hpp"
 #include "retreat/scenario/program_options.hpp"
 #include "retreat/scenario/scenario.hpp"
 
@@ -107,12 +107,8 @@ constexpr double max_seconds = 1e6;
 /// A duration option's value, when given: finite, > 0 and at most max_seconds.
 void require_seconds(const char* option, const std::optional<double>& seconds) {
   if (!seconds || (*seconds > 0.0 && *seconds <= max_seconds)) return;
-  const auto text = [](double value) {
-    char buffer[32];
-    return std::string(buffer, std::to_chars(buffer, buffer + sizeof buffer, value).ptr);
-  };
-  throw UsageError(std::string(option) + " " + text(*seconds) + ": must be a number of seconds > 0 and <= " +
-                   text(max_seconds));
+  throw UsageError(std::string(option) + " " + model::format_number(*seconds) +
+                   ": must be a number of seconds > 0 and <= " + model::format_number(max_seconds));
 }
 
 /// An option that keeps its default unless given: CLI11 parses into `raw`, `into` copies it.

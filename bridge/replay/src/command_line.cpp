@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "retreat/agent/controller_registry.hpp"
+#include "retreat/model/format_number.hpp"
 #include "retreat/scenario/program_options.hpp"
 
 namespace retreat::replay {
@@ -81,7 +82,7 @@ std::variant<ReplayCommandLine, int> parse_replay_command_line(int argc, char** 
       throw scenario::ConfigError("--no-agents with --dds inmemory: agents in this process are started by it");
     }
     if (!std::isfinite(out.answer_timeout) || out.answer_timeout <= 0.0 || out.answer_timeout > 86400.0) {
-      throw scenario::ConfigError("--answer-timeout " + std::to_string(out.answer_timeout) +
+      throw scenario::ConfigError("--answer-timeout " + model::format_number(out.answer_timeout) +
                                   ": must be more than 0 and at most 86400 seconds");
     }
     return out;
