@@ -32,7 +32,8 @@ refused "$r" controller "--controller 'nope': must be one of paper" "$recording"
 refused "$r" set-arena "--set 'arena.width=3'" "$recording" --set arena.width=3
 refused "$r" set-range "agent.K_p = -1" "$recording" --set agent.K_p=-1 --dds inmemory
 refused "$r" dds "--dds 'zenoh'" "$recording" --dds zenoh
-refused "$r" domain "--domain 300" "$recording" --domain 300
+refused "$r" domain "--domain '300': must be a whole number in 0..232" "$recording" --domain 300
+refused "$r" domain-negative "--domain '-1': must be a whole number in 0..232" "$recording" --domain -1
 refused "$r" timeout "--answer-timeout" "$recording" --answer-timeout 0
 refused "$r" no-agents-inmemory "--no-agents with --dds inmemory" "$recording" --no-agents --dds inmemory
 refused "$r" recorded-redecide "--pace recorded with --controller" "$recording" --pace recorded --controller paper

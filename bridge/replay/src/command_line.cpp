@@ -74,10 +74,6 @@ std::variant<ReplayCommandLine, int> parse_replay_command_line(int argc, char** 
     if (!out.dds.empty() && out.dds != "fastdds" && out.dds != "cyclonedds" && out.dds != "inmemory") {
       throw scenario::ConfigError("--dds '" + out.dds + "': must be fastdds, cyclonedds or inmemory");
     }
-    if (out.domain != -1 && (out.domain < 0 || out.domain > transport::max_domain_id)) {
-      throw scenario::ConfigError("--domain " + std::to_string(out.domain) + ": must be 0.." +
-                                  std::to_string(transport::max_domain_id));
-    }
     if (out.dds == "inmemory" && !out.spawn_agents) {
       throw scenario::ConfigError("--no-agents with --dds inmemory: agents in this process are started by it");
     }
