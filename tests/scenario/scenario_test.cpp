@@ -98,7 +98,11 @@ TEST(ScenarioLoader, AnUnknownKeyIsNamedWithTheKeysAllowedInItsSection) {
 
 TEST(ScenarioLoader, AWrongTypeNamesTheKeyAndTheValue) {
   expect_error("model: {delta: abc}\n", {}, "model.delta = 'abc': must be a number");
-  expect_error("arena: {robots_inside: 2.5}\n", {}, "arena.robots_inside = '2.5': must be a whole number >= 0");
+  expect_error("arena: {robots_inside: 2.5}\n", {}, "arena.robots_inside = '2.5': must be a whole number in 0..4294967295");
+  // Past the type's range: the range, not only ">= 0" (which 4294967296 is).
+  expect_error("", {"arena.robots_inside=4294967296"},
+               "arena.robots_inside = '4294967296': must be a whole number in 0..4294967295");
+  expect_error("", {"seed=18446744073709551616"}, "seed = '18446744073709551616': must be a whole number in 0..18446744073709551615");
   expect_error("arena: {record_encounters: maybe}\n", {}, "arena.record_encounters = 'maybe': must be true or false");
   expect_error("model: [1, 2]\n", {}, "model in <text>: must be a mapping");
 }
@@ -192,8 +196,10 @@ TEST(ScenarioJson, JsonIsValidatedAsYamlIs) {
                     "unknown key 'agent.window' in <json> (allowed in agent: L, dt, K_p, lambda_in, controller, missed_onsets, false_onsets)");
   expect_json_error(R"({"agnet": {"L": 90}})", "unknown key 'agnet'");
   expect_json_error(R"({"model": {"delta": "abc"}})", "model.delta = 'abc': must be a number");
-  expect_json_error(R"({"arena": {"robots_inside": 2.5}})", "arena.robots_inside = '2.5': must be a whole number >= 0");
-  expect_json_error(R"({"arena": {"robots_inside": -1}})", "arena.robots_inside = '-1': must be a whole number >= 0");
+  expect_json_error(R"({"arena": {"robots_inside": 2.5}})",
+                    "arena.robots_inside = '2.5': must be a whole number in 0..4294967295");
+  expect_json_error(R"({"arena": {"robots_inside": -1}})",
+                    "arena.robots_inside = '-1': must be a whole number in 0..4294967295");
   expect_json_error(R"({"arena": {"shape": "circle"}})", "arena.shape = 'circle': must be one of ellipse, rectangle");
   expect_json_error(R"({"dds": {"security": "yes"}})", "dds.security = 'yes': must be on or off");
   expect_json_error(R"({"model": {"delta": -0.1}})", "model.delta = -0.1: must be > 0");

@@ -45,7 +45,8 @@ T read_value(const std::string& key, const YAML::Node& node) {
     if (!in || !in.eof() || value != std::floor(value) ||
         value < static_cast<long double>(std::numeric_limits<T>::min()) ||
         value > static_cast<long double>(std::numeric_limits<T>::max())) {
-      throw_type_error(key, node.Scalar(), std::is_signed_v<T> ? "a whole number" : "a whole number >= 0");
+      throw_type_error(key, node.Scalar(), "a whole number in " + std::to_string(std::numeric_limits<T>::min()) +
+                                               ".." + std::to_string(std::numeric_limits<T>::max()));
     }
     return static_cast<T>(value);
   }
