@@ -287,7 +287,7 @@ InProcessFit in_process_fit(const Plan& plan, const HostLimits& host) {
                   " fits";
   } else if (fits < wanted) {
     fit.notice = std::to_string(fits) + (fits == 1 ? " seed" : " seeds") + " at a time, not " + std::to_string(wanted) +
-                 " (the core count): " + need + ", and " + have;
+                 " (by default one per core): " + need + ", and " + have;
   }
   return fit;
 }

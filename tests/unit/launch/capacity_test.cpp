@@ -183,7 +183,7 @@ TEST(InProcessFit, RobotsAtTheStartTimesTheRunsAtOnceMustFitTheAvailableMemory) 
   EXPECT_FALSE(lowered.refusal);
   ASSERT_TRUE(lowered.notice);
   EXPECT_EQ(*lowered.notice,
-            "1 seed at a time, not 2 (the core count): 1000000 robots (arena.robots_inside + arena.robots_waiting) "
+            "1 seed at a time, not 2 (by default one per core): 1000000 robots (arena.robots_inside + arena.robots_waiting) "
             "with their agents need about 15625 MiB of memory a run, and 20000 MiB is available (MemAvailable)");
 
   const auto given = in_process_fit(in_process_plan(1000000, 0, 100, 2, true), host);
