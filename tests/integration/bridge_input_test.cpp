@@ -127,7 +127,7 @@ TEST(BridgeBadInput, OtherBadInputGivesOneLineAndExitCodeTwo) {
   expect_one_line_and_exit_2({"--dds", "inmemory"}, "--scenario is required");
   expect_one_line_and_exit_2({"--scenario", ::testing::TempDir() + "/no_such.yaml"}, "no_such.yaml");
   expect_one_line_and_exit_2({"--scenario", scenario, "--dds", "carrier-pigeon"}, "dds.vendor");
-  expect_one_line_and_exit_2({"--scenario", scenario, "--domain", "999"}, "dds.domain");
+  expect_one_line_and_exit_2({"--scenario", scenario, "--domain", "999"}, "--domain '999': must be a whole number in 0..232");
   expect_one_line_and_exit_2({"--scenario", scenario, "--set", "model.delta=-1"}, "model.delta");
   const std::string empty = ::testing::TempDir() + "/bridge_input_empty";
   fs::create_directories(empty);
