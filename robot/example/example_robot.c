@@ -64,6 +64,20 @@ static int parse_double(const char* name, const char* text, double low, double h
   return 1;
 }
 
+/* A whole number in [0, high], in decimal digits only (no sign, no fraction, no 0x). */
+static int parse_whole(const char* name, const char* text, unsigned long long high, unsigned long long* out) {
+  char* end = NULL;
+  errno = 0;
+  const int digits = text[0] >= '0' && text[0] <= '9';
+  const unsigned long long v = digits ? strtoull(text, &end, 10) : 0;
+  if (!digits || errno != 0 || *end != '\0' || v > high) {
+    fprintf(stderr, "retreat-robot-example: %s '%s' is not a whole number in [0, %llu]\n", name, text, high);
+    return 0;
+  }
+  *out = v;
+  return 1;
+}
+
 static void sleep_seconds(double s) {
   if (s <= 0) return;
   struct timespec ts;
@@ -129,7 +143,9 @@ int main(int argc, char** argv) {
   retreat_robot_options options;
   retreat_robot_options_init(&options);
   double rate = 10, jitter = 0.2, onset_rate = 1.5, miss = 0, false_rate = 0, contact = 0.5;
-  double speed = 0.2, distance = 0.4, seed = 1, max_time = 600, agent_timeout = 60, robot = -1, domain = 0;
+  double speed = 0.2, distance = 0.4, max_time = 600, agent_timeout = 60;
+  unsigned long long seed = 1, robot = 0, domain = 0;
+  int have_robot = 0;
   double orbit = 0.5, exit_radius = 2.0, pose_noise = 0.0;
   const char* log_path = NULL;
   static const struct option longs[] = {
@@ -146,13 +162,14 @@ int main(int argc, char** argv) {
       {"exit-radius", required_argument, 0, 'X'}, {"pose-noise", required_argument, 0, 'N'},
       {0, 0, 0, 0}};
   int c;
+  opterr = 0; /* getopt's own messages name the program by its path; ours are one line each */
   while ((c = getopt_long(argc, argv, "", longs, NULL)) != -1) {
     int ok = 1;
     switch (c) {
-      case 'i': ok = parse_double("--robot-id", optarg, 0, 4294967295.0, &robot) && robot == floor(robot); break;
+      case 'i': ok = have_robot = parse_whole("--robot-id", optarg, 4294967295ULL, &robot); break;
       case 's': options.scenario = optarg; break;
       case 'v': options.vendor = optarg; break;
-      case 'd': ok = parse_double("--domain", optarg, 0, 232, &domain) && domain == floor(domain); break;
+      case 'd': ok = parse_whole("--domain", optarg, 232, &domain); break;
       case 'l': options.lockstep = 1; break;
       case 'r': ok = parse_double("--rate", optarg, 0.1, 1000, &rate); break;
       case 'j': ok = parse_double("--jitter", optarg, 0, 0.9, &jitter); break;
@@ -162,7 +179,7 @@ int main(int argc, char** argv) {
       case 'c': ok = parse_double("--contact", optarg, 0, 60, &contact); break;
       case 'p': ok = parse_double("--speed", optarg, 1e-3, 10, &speed); break;
       case 'x': ok = parse_double("--distance", optarg, 0, 1000, &distance); break;
-      case 'e': ok = parse_double("--seed", optarg, 0, 9007199254740992.0, &seed) && seed == floor(seed); break;
+      case 'e': ok = parse_whole("--seed", optarg, 18446744073709551615ULL, &seed); break;
       case 't': ok = parse_double("--max-time", optarg, 0, 1e7, &max_time); break;
       case 'a': ok = parse_double("--agent-timeout", optarg, 0, 1e6, &agent_timeout); break;
       case 'g': log_path = optarg; break;
@@ -171,20 +188,19 @@ int main(int argc, char** argv) {
       case 'X': ok = parse_double("--exit-radius", optarg, 0, 1000, &exit_radius); break;
       case 'N': ok = parse_double("--pose-noise", optarg, 0, 10, &pose_noise); break;
       case 'h': usage(stdout); return 0;
-      default: usage(stderr); return 2;
+      default:
+        fprintf(stderr, "retreat-robot-example: '%s': an unknown option, or one without its value (--help lists them)\n",
+                argv[optind - 1]);
+        return 2;
     }
-    if (!ok) {
-      if (c == 'i' || c == 'd' || c == 'e') fprintf(stderr, "retreat-robot-example: the value must be a whole number\n");
-      return 2;
-    }
+    if (!ok) return 2;
   }
   if (optind < argc) {
     fprintf(stderr, "retreat-robot-example: unexpected argument '%s'\n", argv[optind]);
     return 2;
   }
-  if (robot < 0) {
-    fprintf(stderr, "retreat-robot-example: --robot-id is required\n");
-    usage(stderr);
+  if (!have_robot) {
+    fprintf(stderr, "retreat-robot-example: --robot-id is required (--help lists the options)\n");
     return 2;
   }
   options.robot_id = (uint32_t)robot;

@@ -333,14 +333,29 @@ INSTANTIATE_TEST_SUITE_P(Vendors, RobotLinkOverDds,
                          [](const ::testing::TestParamInfo<Vendor>& v) { return std::string(v.param.name); });
 
 TEST(RobotExample, BadArgumentsAreOneLineAndExitTwo) {
-  for (const std::vector<std::string>& args :
-       {std::vector<std::string>{"--robot-id", "x"}, {"--robot-id", "1", "--rate", "0"},
-        {"--robot-id", "1", "--dds", "nodds"}, {"--rate", "10"}, {"--robot-id", "1", "--scenario", "/nonexistent.yaml"}}) {
+  // Each: the arguments, and what its one line must say. A whole number is decimal digits in its
+  // range: "-1", "1.5" and "0x10" used to be read by strtod (0x10 as 16), and a bad one printed
+  // two lines, the second not naming the value.
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"--robot-id", "x"}, "--robot-id 'x' is not a whole number in [0, 4294967295]"},
+      {{"--robot-id", "-1"}, "--robot-id '-1' is not a whole number in [0, 4294967295]"},
+      {{"--robot-id", "1.5"}, "--robot-id '1.5' is not a whole number in [0, 4294967295]"},
+      {{"--robot-id", "4294967296"}, "--robot-id '4294967296' is not a whole number"},
+      {{"--robot-id", "1", "--domain", "0x10"}, "--domain '0x10' is not a whole number in [0, 232]"},
+      {{"--robot-id", "1", "--seed", "18446744073709551616"}, "--seed '18446744073709551616' is not a whole number"},
+      {{"--robot-id", "1", "--rate", "0"}, "--rate '0' is not a number in [0.1, 1000]"},
+      {{"--robot-id", "1", "--dds", "nodds"}, "nodds"},
+      {{"--rate", "10"}, "--robot-id is required"},
+      {{"--robot-id", "1", "--frobnicate"}, "'--frobnicate': an unknown option"},
+      {{"--robot-id"}, "'--robot-id': an unknown option, or one without its value"},
+      {{"--robot-id", "1", "--scenario", "/nonexistent.yaml"}, "/nonexistent.yaml"}};
+  for (const auto& [args, line] : cases) {
     std::vector<std::string> argv{RETREAT_ROBOT_EXAMPLE_BIN};
     argv.insert(argv.end(), args.begin(), args.end());
     const auto [code, output] = testing::run_to_exit(argv, ::testing::TempDir() + "/robot_example_args.log");
-    EXPECT_EQ(code, 2) << args[args.size() - 1] << ": " << output;
-    EXPECT_FALSE(output.empty());
+    EXPECT_EQ(code, 2) << line << ": " << output;
+    EXPECT_NE(output.find(line), std::string::npos) << output;
+    EXPECT_EQ(std::count(output.begin(), output.end(), '\n'), 1) << "one line: " << output;
   }
   std::remove((::testing::TempDir() + "/robot_example_args.log").c_str());
 }
