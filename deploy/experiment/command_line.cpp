@@ -2,6 +2,8 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <ctime>
 #include <filesystem>
@@ -93,8 +95,14 @@ std::vector<double> parse_lambdas(const std::string& text) {
     out.push_back(v);
   }
   if (out.empty()) throw UsageError("--lambdas '" + text + "': give at least one density");
-  for (const double v : out) {
-    if (!(v > 0.0 && v <= 20.0)) throw UsageError("--lambdas: " + fixed(v, 3) + ": each must be in (0, 20] robots/m²");
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const std::string value = model::format_number(out[i]);
+    if (!(out[i] > 0.0 && out[i] <= 20.0)) {
+      throw UsageError("--lambdas '" + text + "': " + value + ": each must be in (0, 20] robots/m²");
+    }
+    if (std::find(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(i), out[i]) != out.begin() + static_cast<std::ptrdiff_t>(i)) {
+      throw UsageError("--lambdas '" + text + "': " + value + " is named twice");
+    }
   }
   return out;
 }

@@ -490,6 +490,12 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"seeds_not_a_range", {"robotarium", "--seeds", "abc", "--out", "/nonexistent/out"}, "abc"},
         BadInput{"missing_scenarios", {"encounters", "--scenarios", "/nonexistent/scenarios"}, "/nonexistent/scenarios"},
         BadInput{"bad_lambdas", {"throughput", "--lambdas", "0.5,x", "--out", "/nonexistent/out"}, "0.5,x"},
+        // The value as written (an infinite density was shown as "–", 1e300 as 301 digits), and a
+        // density named twice (it ran twice).
+        BadInput{"infinite_lambda", {"throughput", "--lambdas", "0.5,inf", "--out", "/nonexistent/out"},
+                 "--lambdas '0.5,inf': inf: each must be in (0, 20] robots/m²"},
+        BadInput{"lambda_twice", {"throughput", "--lambdas", "0.5,0.50", "--out", "/nonexistent/out"},
+                 "--lambdas '0.5,0.50': 0.5 is named twice"},
         BadInput{"bad_vendor", {"robotarium", "--dds", "zenoh", "--out", "/nonexistent/out"}, "zenoh"},
         BadInput{"unknown_controller", {"sweep", "--controllers", "paper,fly", "--out", "/nonexistent/out"}, "fly"},
         BadInput{"set_unknown_key", {"controllers", "--set", "arena.no_such_key=1", "--out", "/nonexistent/out"},
