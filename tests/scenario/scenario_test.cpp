@@ -96,6 +96,15 @@ TEST(ScenarioLoader, AnUnknownKeyIsNamedWithTheKeysAllowedInItsSection) {
   expect_error("", {"model.gamma=3"}, "unknown key 'model.gamma' in --set");
 }
 
+TEST(ScenarioLoader, AKeyGivenTwiceIsRefusedNamingIt) {
+  // yaml-cpp keeps both entries of a repeated key, and the later value silently won.
+  expect_error("model:\n  delta: 0.1\n  delta: 0.2\n", {}, "model.delta in <text>: given twice (again at line 3)");
+  expect_error("model: {delta: 0.1}\nmodel: {v: 0.2}\n", {}, "model in <text>: given twice (again at line 2)");
+  expect_error("name: a\nname: b\n", {}, "name in <text>: given twice (again at line 2)");
+  // A key in two sections is two keys; --set still overrides a key the file gives.
+  EXPECT_NO_THROW(parse("model: {delta: 0.1}\narena: {max_speed: 0.2}\n", {"model.delta=0.12"}));
+}
+
 TEST(ScenarioLoader, AWrongTypeNamesTheKeyAndTheValue) {
   expect_error("model: {delta: abc}\n", {}, "model.delta = 'abc': must be a number");
   expect_error("arena: {robots_inside: 2.5}\n", {}, "arena.robots_inside = '2.5': must be a whole number in 0..4294967295");

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <set>
 #include <sstream>
 #include <type_traits>
 
@@ -118,12 +119,26 @@ std::string key_name(const YAML::Node& key, const std::string& origin) {
 void merge(Scenario& s, const YAML::Node& root, const std::string& origin) {
   if (root.IsNull()) return;  // an empty file: all defaults
   if (!root.IsMap()) throw ConfigError(origin + ": must be a YAML mapping of sections");
+  // YAML forbids a key twice in one mapping, but yaml-cpp keeps both and the later one would
+  // silently win: a scenario with two values for one key is refused, naming the second.
+  std::set<std::string> seen;
+  const auto first_time = [&](const std::string& key, const YAML::Node& node) {
+    if (!seen.insert(key).second) {
+      throw ConfigError(key + " in " + origin + ": given twice (again at line " + std::to_string(node.Mark().line + 1) +
+                        "); a scenario gives each key once");
+    }
+  };
   for (const auto& entry : root) {
     const auto name = key_name(entry.first, origin);
+    first_time(name, entry.first);
     const YAML::Node& value = entry.second;
     if (value.IsMap()) {
       if (!is_section(name)) throw_unknown_key(name, origin);
-      for (const auto& item : value) set_key(s, name + "." + key_name(item.first, origin), item.second, origin);
+      for (const auto& item : value) {
+        const auto key = name + "." + key_name(item.first, origin);
+        first_time(key, item.first);
+        set_key(s, key, item.second, origin);
+      }
     } else if (is_section(name) && !value.IsNull()) {
       throw ConfigError(name + " in " + origin + ": must be a mapping of keys (" + allowed_in(name) + ")");
     } else if (!is_section(name)) {
