@@ -92,9 +92,22 @@ std::vector<std::string> complete_lines(const std::string& path) {
 
 }  // namespace
 
+std::string RunRecorder::recorded_run_in(const std::string& dir) {
+  for (const char* name : {"telemetry.csv", "summary.json"}) {
+    std::error_code ec;
+    const auto path = (std::filesystem::path(dir) / name).string();
+    if (std::filesystem::exists(path, ec)) return path;
+  }
+  return {};
+}
+
 RunRecorder::RunRecorder(const std::string& dir, const scenario::Scenario& scenario,
                          const std::string& scenario_yaml, bool resume)
     : dir_(dir), scenario_(scenario) {
+  if (const auto recorded = recorded_run_in(dir_); !resume && !recorded.empty()) {
+    throw std::invalid_argument("--out '" + dir_ + "': holds a recorded run (" + recorded +
+                                "); give a new directory (--resume continues a run an arena left)");
+  }
   std::error_code ec;
   std::filesystem::create_directories(dir_, ec);
   if (ec) throw std::runtime_error("--out '" + dir_ + "': cannot create the directory: " + ec.message());

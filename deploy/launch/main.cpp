@@ -31,6 +31,7 @@
 #include <variant>
 #include <vector>
 
+#include "retreat/arena/run_recorder.hpp"
 #include "retreat/launch/command_line.hpp"
 #include "retreat/launch/capacity.hpp"
 #include "domain_lock.hpp"
@@ -154,6 +155,26 @@ void announce(const launch::Plan& plan, int domain, const std::string& out) {
   }
 }
 
+/// A run directory of the plan (OUT, or OUT/seed_<n>/ and OUT/seeds_summary.json for several seeds)
+/// that holds a recorded run already: the one line that refuses to overwrite it, or nothing.
+std::optional<std::string> recorded_run_refusal(const launch::Plan& plan, const std::string& out) {
+  std::vector<std::string> found;
+  if (plan.multi_seed) {
+    if (retreat::exists(out + "/seeds_summary.json")) found.push_back(out + "/seeds_summary.json");
+    for (const auto seed : plan.seeds) {
+      if (auto file = arena::RunRecorder::recorded_run_in(out + "/seed_" + std::to_string(seed)); !file.empty()) {
+        found.push_back(std::move(file));
+      }
+    }
+  } else if (auto file = arena::RunRecorder::recorded_run_in(out); !file.empty()) {
+    found.push_back(std::move(file));
+  }
+  if (found.empty()) return std::nullopt;
+  return "--out '" + out + "': holds a recorded run (" + found.front() +
+         (found.size() > 1 ? " and " + std::to_string(found.size() - 1) + " more" : std::string()) +
+         "); give a new directory (a run directory is never overwritten)";
+}
+
 /// Runs every seed of the plan into `out` (OUT/seed_<n>/ for several); returns the exit code.
 /// In process, @p seeds_at_once seeds (plan.jobs, or fewer when the host's memory holds fewer:
 /// launch::in_process_fit) run at once, one thread each: every run has its own world, bus
@@ -269,8 +290,12 @@ int main(int argc, char** argv) {
     lock = lock_domain(plan);
     if (!lock) return 2;
   }
-  install_signal_handlers();
   const std::string out = plan.options.out_dir.empty() ? default_out_dir() : plan.options.out_dir;
+  if (const auto refusal = recorded_run_refusal(plan, out)) {
+    std::fprintf(stderr, "retreat-launch: %s\n", refusal->c_str());
+    return 2;
+  }
+  install_signal_handlers();
   if (lock) announce(plan, lock->domain(), out);
   try {
     return run_seeds(plan, out, lock ? lock->domain() : -1, seeds_at_once);

@@ -214,6 +214,17 @@ TEST(ArenaProgramBadInput, EachBadValueGivesOneLineNamingItAndExitCodeTwo) {
       {{"arena.queue=infinite"}, "arena.queue"},
       {{"run.mode=turbo"}, "run.mode = 'turbo'"},
   };
+  // An --out that holds a recorded run is not written over (--resume continues one).
+  const std::string recorded = tmp_dir() + "/arena_recorded";
+  std::filesystem::create_directories(recorded);
+  std::ofstream(recorded + "/telemetry.csv") << "an earlier run\n";
+  const auto [code, text] = testing::run_to_exit(
+      {RETREAT_ARENA_BIN, "--scenario", scenario, "--dds", "inmemory", "--out", recorded}, tmp_dir() + "/arena_recorded.log");
+  EXPECT_EQ(code, 2) << text;
+  EXPECT_EQ(text, "retreat-arena: --out '" + recorded + "': holds a recorded run (" + recorded +
+                      "/telemetry.csv); give a new directory (--resume continues a run an arena left)\n");
+  EXPECT_EQ(testing::read_file(recorded + "/telemetry.csv"), "an earlier run\n");
+  EXPECT_FALSE(std::filesystem::exists(recorded + "/scenario.yaml")) << "the arena wrote into it";
   for (const auto& c : cases) {
     std::vector<std::string> argv = {RETREAT_ARENA_BIN, "--scenario", scenario, "--dds", "inmemory"};
     for (const auto& s : c.set) {

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 
 #include "retreat/testing/domains.hpp"
 #include "launch_support.hpp"
@@ -108,6 +109,33 @@ TEST(LaunchInput, InProcessRobotsTheHostsMemoryCannotHoldAreRefusedBeforeAnythin
       << log;
   EXPECT_EQ(std::count(log.begin(), log.end(), '\n'), 1) << "one line: " << log;
   EXPECT_FALSE(std::filesystem::exists(dir + "/run")) << "something was started";
+}
+
+TEST(LaunchInput, ARunDirectoryThatHoldsARecordedRunIsNotOverwritten) {
+  // --out naming an earlier run's directory: the launcher used to write the new run over it.
+  struct Case {
+    std::string name;
+    std::vector<std::string> args;
+    std::string recorded;  ///< the earlier run's file, below <dir>/run
+  };
+  const std::vector<Case> cases = {
+      {"in-process", {robotarium, "--in-process"}, "summary.json"},
+      {"processes", {robotarium, "--domain", "64"}, "telemetry.csv"},
+      {"one-seed-of-several", {robotarium, "--in-process", "--seeds", "1:3"}, "seed_2/telemetry.csv"},
+  };
+  for (const auto& c : cases) {
+    const auto dir = fresh_dir("input-recorded-" + c.name);
+    const auto file = dir + "/run/" + c.recorded;
+    std::filesystem::create_directories(std::filesystem::path(file).parent_path());
+    std::ofstream(file) << "an earlier run\n";
+    EXPECT_EQ(run_launch(dir, c.args), 2) << c.name << ": " << log_of(dir);
+    EXPECT_EQ(log_of(dir), "retreat-launch: --out '" + dir + "/run': holds a recorded run (" + file +
+                               "); give a new directory (a run directory is never overwritten)\n")
+        << c.name;
+    EXPECT_EQ(testing::read_file(file), "an earlier run\n") << c.name;
+    EXPECT_FALSE(std::filesystem::exists(dir + "/run/logs")) << c.name << ": a process was started";
+    EXPECT_FALSE(std::filesystem::exists(dir + "/run/seed_1")) << c.name << ": a seed was run";
+  }
 }
 
 TEST(LaunchInput, ASwarmBeyondWhatItsDdsSettingsDiscoverIsRefusedWithTheLimitAndTheWayOut) {

@@ -99,12 +99,18 @@ using RetreatJournal = std::multimap<std::int64_t, std::uint32_t>;  // tick -> r
 class RunRecorder {
  public:
   /// Creates `dir` (and parents) and writes scenario.yaml. Throws std::runtime_error when the
-  /// directory cannot be written. With `resume`, continues the run directory an arena that died
-  /// left: telemetry.csv (its half-written last row dropped), retreats.csv, encounters.csv.
+  /// directory cannot be written, and std::invalid_argument when it holds a recorded run already
+  /// (recorded_run_in) and `resume` is false: a run directory is never overwritten. With
+  /// `resume`, continues the run directory an arena that died left: telemetry.csv (its
+  /// half-written last row dropped), retreats.csv, encounters.csv.
   /// @p scenario_yaml is the resolved scenario as its loader writes it (scenario::dump): the
   /// recorder itself reads no YAML, so that the in-memory core builds without yaml-cpp.
   RunRecorder(const std::string& dir, const scenario::Scenario& scenario, const std::string& scenario_yaml,
               bool resume = false);
+
+  /// The file that shows @p dir holds a recorded run (its telemetry.csv or summary.json), or
+  /// empty if it holds none.
+  static std::string recorded_run_in(const std::string& dir);
 
   /// --resume: the tick of the last complete telemetry row (0 if none) and the journal.
   std::int64_t resumable_tick() const { return resumable_tick_; }
