@@ -47,11 +47,12 @@ class AgentProgram : public ::testing::TestWithParam<Vendor> {
     }
   }
 
-  std::string write_scenario(const std::string& tag, const std::string& extra) {
+  /// @p extra: more sections; @p run: more keys of `run` (a scenario gives each section once).
+  std::string write_scenario(const std::string& tag, const std::string& extra, const std::string& run = "") {
     const std::string path = ::testing::TempDir() + "/agent_program_" + tag + "_" + GetParam().name + ".yaml";
     std::ofstream(path) << "name: agent-program-test\nseed: 7\n"
                         << "agent: {L: 0.3, dt: 0.03, K_p: 0.03, lambda_in: 0.02}\n"
-                        << "run: {status_period: 0.09}\n" << extra;
+                        << "run: {status_period: 0.09" << run << "}\n" << extra;
     return path;
   }
 
@@ -156,7 +157,7 @@ TEST_P(AgentProgram, DecidesEveryDtOfTheFramesClockWhenFramesArriveInBursts) {
   // decision step per dt of the frames' clock, exactly as the algorithm does in this process.
   const int domain = GetParam().domain_base + 3;
   const std::uint32_t robot = 5;
-  const auto path = write_scenario("bursts", "arena: {robots_inside: 6}\nrun: {mode: realtime}\n");
+  const auto path = write_scenario("bursts", "arena: {robots_inside: 6}\n", ", mode: realtime");
   const auto s = scenario::load(path);
   ScriptedArena arena(GetParam().name, domain, robot);
   auto agent_process = start_agent(path, domain, robot);
