@@ -87,4 +87,4 @@ check((counts.Message ?? 0) === expectedMessages, `stream: ${counts.Message ?? 0
 check(counts.Footer === 1 && counts.DataEnd === 1 && counts.Header === 1, `stream: ${JSON.stringify(counts)}`);
 
 if (failures > 0) process.exit(1);
-console.log(`read_mcap: ${i} messages in ${reader.chunkIndexes.length} chunks, ${JSON.stringify(counts)}`);
+console.log(`read_mcap: ok, ${i} messages in ${reader.chunkIndexes.length} chunks, ${JSON.stringify(counts)}`);
