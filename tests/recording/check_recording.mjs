@@ -238,6 +238,6 @@ if (failures > 0) {
   console.error(`check_recording: ${failures} mismatches`);
   process.exit(1);
 }
-console.log(`check_recording: ${messages} messages on ${reader.channelsById.size} channels, ` +
+console.log(`check_recording: ok, ${messages} messages on ${reader.channelsById.size} channels, ` +
             `${robots.size} robots, ${telemetry} telemetry samples, ${answers} answers, ` +
             `${sceneByTick.size} valid scene updates: as in ${runDir}`);

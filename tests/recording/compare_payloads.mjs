@@ -62,4 +62,4 @@ if (topics.size === 0) {
   process.exit(1);
 }
 if (failures > 0) process.exit(1);
-console.log(`compare_payloads: ${compared} distinct payloads on ${topics.size} channels, the same encoding in both`);
+console.log(`compare_payloads: ok, ${compared} distinct payloads on ${topics.size} channels, the same encoding in both`);

@@ -18,6 +18,7 @@ set -u
 launch=$1 scenario=$2 node=$3 check=$4 modules=$5 domain=$6 work=$7
 shift 7
 profiles="$(dirname "$scenario")/../dds"
+verdict="$(dirname "$check")/node_verdict.sh"  # node's verdict from its last line, not its exit
 rm -rf "$work"
 mkdir -p "$work"
 status=0
@@ -55,7 +56,7 @@ EOF_CASE
   if [ "$code" -ne 0 ]; then
     echo "record_run: $case: retreat-launch failed:"; cat "$dir/launch.log"; status=1; continue
   fi
-  if ! "$node" "$check" "$modules" "$dir/run.mcap" "$dir/run"; then
+  if ! "$verdict" check_recording "$node" "$check" "$modules" "$dir/run.mcap" "$dir/run"; then
     echo "record_run: $case: the recording does not match the run (files kept in $dir)"; status=1; continue
   fi
   rm -rf "$dir/run"  # the recording stays for the comparison below
@@ -64,7 +65,7 @@ done
 # bytes in both recordings, whichever vendor's recorder kept them.
 a="$work/cyclonedds-150-false/run.mcap" b="$work/fastdds-150-false/run.mcap"
 if [ "$status" -eq 0 ] && [ -f "$a" ] && [ -f "$b" ]; then
-  "$node" "$(dirname "$check")/compare_payloads.mjs" "$modules" "$a" "$b" || status=1
+  "$verdict" compare_payloads "$node" "$(dirname "$check")/compare_payloads.mjs" "$modules" "$a" "$b" || status=1
 fi
 [ "$status" -eq 0 ] && rm -rf "$work"
 exit $status
