@@ -155,19 +155,20 @@ void announce(const launch::Plan& plan, int domain, const std::string& out) {
   }
 }
 
+/// The run directory of the plan's seed @p i: OUT itself for one seed, OUT/seed_<n> for several.
+std::string run_dir(const launch::Plan& plan, const std::string& out, std::size_t i) {
+  return plan.multi_seed ? out + "/seed_" + std::to_string(plan.seeds[i]) : out;
+}
+
 /// A run directory of the plan (OUT, or OUT/seed_<n>/ and OUT/seeds_summary.json for several seeds)
 /// that holds a recorded run already: the one line that refuses to overwrite it, or nothing.
 std::optional<std::string> recorded_run_refusal(const launch::Plan& plan, const std::string& out) {
   std::vector<std::string> found;
-  if (plan.multi_seed) {
-    if (retreat::exists(out + "/seeds_summary.json")) found.push_back(out + "/seeds_summary.json");
-    for (const auto seed : plan.seeds) {
-      if (auto file = arena::RunRecorder::recorded_run_in(out + "/seed_" + std::to_string(seed)); !file.empty()) {
-        found.push_back(std::move(file));
-      }
+  if (plan.multi_seed && retreat::exists(out + "/seeds_summary.json")) found.push_back(out + "/seeds_summary.json");
+  for (std::size_t i = 0; i < plan.seeds.size(); ++i) {
+    if (auto file = arena::RunRecorder::recorded_run_in(run_dir(plan, out, i)); !file.empty()) {
+      found.push_back(std::move(file));
     }
-  } else if (auto file = arena::RunRecorder::recorded_run_in(out); !file.empty()) {
-    found.push_back(std::move(file));
   }
   if (found.empty()) return std::nullopt;
   return "--out '" + out + "': holds a recorded run (" + found.front() +
@@ -182,9 +183,6 @@ std::optional<std::string> recorded_run_refusal(const launch::Plan& plan, const 
 int run_seeds(const launch::Plan& plan, const std::string& out, int domain, unsigned seeds_at_once) {
   const bool in_process = plan.options.in_process;
   const std::size_t n = plan.seeds.size();
-  const auto dir_of = [&](std::size_t i) {
-    return plan.multi_seed ? out + "/seed_" + std::to_string(plan.seeds[i]) : out;
-  };
   const unsigned jobs = static_cast<unsigned>(std::min<std::size_t>(seeds_at_once, n));
   std::vector<std::optional<launch::RunOutcome>> results(n);
   std::vector<nlohmann::json> summaries;
@@ -203,8 +201,8 @@ int run_seeds(const launch::Plan& plan, const std::string& out, int domain, unsi
       std::optional<launch::RunOutcome> result;
       std::exception_ptr error;
       try {
-        result = in_process ? launch::run_in_process(plan, plan.seeds[i], dir_of(i), jobs == 1)
-                            : launch::run_processes(plan, plan.seeds[i], dir_of(i), domain);
+        result = in_process ? launch::run_in_process(plan, plan.seeds[i], run_dir(plan, out, i), jobs == 1)
+                            : launch::run_processes(plan, plan.seeds[i], run_dir(plan, out, i), domain);
       } catch (...) {
         error = std::current_exception();
       }
@@ -220,7 +218,7 @@ int run_seeds(const launch::Plan& plan, const std::string& out, int domain, unsi
       for (; reported < n && results[reported]; ++reported) {
         const auto& r = *results[reported];
         if (!r.summary.is_null()) {
-          report(r.summary, dir_of(reported));
+          report(r.summary, run_dir(plan, out, reported));
           summaries.push_back(r.summary);
         }
       }

@@ -103,15 +103,21 @@ Domain domain_of(const WorldParams& params) {
                                               : Domain::rectangle(params.width, params.height);
 }
 
-std::uint32_t max_robots(const WorldParams& params) {
+namespace {
+
+/// max_robots of @p params, whose domain_of is @p domain (built once by validate()).
+std::uint32_t max_robots_in(const WorldParams& params, const Domain& domain) {
   const double disc = pi * 0.25 * params.safety_distance * params.safety_distance;
-  const double walkable =
-      domain_of(params).inset_area(params.robot_radius + params.projection_distance);
+  const double walkable = domain.inset_area(params.robot_radius + params.projection_distance);
   // In double first: a large arena holds more robots than a std::uint32_t counts.
   const double fit = std::floor(0.4 * walkable / disc);
   constexpr double most = std::numeric_limits<std::uint32_t>::max();
   return fit >= most ? std::numeric_limits<std::uint32_t>::max() : static_cast<std::uint32_t>(fit);
 }
+
+}  // namespace
+
+std::uint32_t max_robots(const WorldParams& params) { return max_robots_in(params, domain_of(params)); }
 
 void WorldParams::validate() const {
   require_named("arena.encounter_model", encounter_model);
@@ -244,7 +250,8 @@ void WorldParams::validate() const {
   }
   require(static_cast<double>(robots_inside) + robots_waiting >= 1.0, "arena.robots_inside",
           robots_inside, "must be >= 1 when arena.robots_waiting = 0");
-  const std::uint32_t fit = max_robots(*this);
+  const Domain domain = domain_of(*this);  // its perimeter sums 4,096 points: built once
+  const std::uint32_t fit = max_robots_in(*this, domain);
   require(robots_inside <= fit, "arena.robots_inside", robots_inside,
           "must be <= " + std::to_string(fit) +
               ": safety discs (diameter arena.safety_distance) may cover at most 40 % of the "
@@ -263,7 +270,7 @@ void WorldParams::validate() const {
           "must be <= " + std::to_string(max_start_robots - robots_inside) + " (robots_inside + robots_waiting, " +
               "the robots a run starts with, each with its agent, at most " + std::to_string(max_start_robots) + ")");
 
-  const double area = domain_of(*this).area();
+  const double area = domain.area();
   // Arrivals: the influx draws them one by one, whatever the queue (a finite one drops those
   // with nobody left to send).
   require(lambda_in * area * tick_dt <= max_arrivals_per_tick, "agent.lambda_in", lambda_in,

@@ -39,8 +39,7 @@ T read_value(const std::string& key, const Json& j) {
     return j.get<double>();
   } else {
     static_assert(std::is_integral_v<T>, "a scenario value is a name, bool, string, number or integer");
-    const std::string wanted = "a whole number in " + std::to_string(std::numeric_limits<T>::min()) + ".." +
-                               std::to_string(std::numeric_limits<T>::max());
+    const std::string wanted = whole_number_in<T>();
     if (j.is_number_unsigned()) {
       const auto v = j.get<std::uint64_t>();
       if (v > static_cast<std::uint64_t>(std::numeric_limits<T>::max())) throw_type_error(key, value_text(j), wanted);

@@ -46,8 +46,7 @@ T read_value(const std::string& key, const YAML::Node& node) {
     if (!in || !in.eof() || value != std::floor(value) ||
         value < static_cast<long double>(std::numeric_limits<T>::min()) ||
         value > static_cast<long double>(std::numeric_limits<T>::max())) {
-      throw_type_error(key, node.Scalar(), "a whole number in " + std::to_string(std::numeric_limits<T>::min()) +
-                                               ".." + std::to_string(std::numeric_limits<T>::max()));
+      throw_type_error(key, node.Scalar(), whole_number_in<T>());
     }
     return static_cast<T>(value);
   }

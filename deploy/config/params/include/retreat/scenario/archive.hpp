@@ -4,6 +4,7 @@
 /// keys as Scenario::serialize() names them, and the one-line messages for an unknown key, a
 /// value of the wrong type and a name outside an enum's table. Standard library only.
 
+#include <limits>
 #include <string>
 #include <string_view>
 
@@ -26,6 +27,13 @@ std::string allowed_in(std::string_view section);
 /// `<key> = '<text>': must be <wanted>`.
 [[noreturn]] void throw_type_error(const std::string& key, const std::string& text,
                                    const std::string& wanted);
+
+/// `a whole number in MIN..MAX` for the integer type @p T: what an integer key allows.
+template <class T>
+std::string whole_number_in() {
+  return "a whole number in " + std::to_string(std::numeric_limits<T>::min()) + ".." +
+         std::to_string(std::numeric_limits<T>::max());
+}
 
 /// The value of @p E named @p text, or a ConfigError such as
 /// `arena.shape = 'circle': must be one of ellipse, rectangle`.
