@@ -22,10 +22,18 @@ cmake --build "$fuzz" -j2 --target retreat_fuzzers
 ctest --test-dir "$fuzz" -j2 -L fuzz --output-on-failure --no-tests=error || status=$?
 # Portability stage (docs/conventions.md, "Determinism"): the in-memory core built with Clang and
 # libc++ (no DDS, yaml-cpp or HTTP) runs the golden cases from their JSON scenarios and must give
-# the GCC and libstdc++ build's recorded trajectory hashes.
+# the GCC and libstdc++ build's recorded trajectory hashes. On a processor that has them, it is
+# built for x86-64-v3 (AVX2, FMA), as a robot's processor with FMA would be: no a·b + c may fuse.
 libcxx=${RETREAT_LIBCXX_BUILD_DIR:-$build-libcxx}
+libcxx_flags=-stdlib=libc++
+if [ "$(uname -m)" = x86_64 ] && [ -r /proc/cpuinfo ] &&
+   grep -m1 '^flags' /proc/cpuinfo | grep -qw avx2 && grep -m1 '^flags' /proc/cpuinfo | grep -qw fma &&
+   grep -m1 '^flags' /proc/cpuinfo | grep -qw bmi2 && grep -m1 '^flags' /proc/cpuinfo | grep -qw movbe; then
+  libcxx_flags="$libcxx_flags -march=x86-64-v3"
+fi
+echo "test.sh: portability stage: Clang, $libcxx_flags"
 cmake -S "$root" -B "$libcxx" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang \
-  -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_CXX_FLAGS=-stdlib=libc++ -DCMAKE_EXE_LINKER_FLAGS=-stdlib=libc++ \
+  -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_CXX_FLAGS="$libcxx_flags" -DCMAKE_EXE_LINKER_FLAGS=-stdlib=libc++ \
   -DRETREAT_PORTABILITY_ONLY=ON >/dev/null
 cmake --build "$libcxx" -j2
 ctest --test-dir "$libcxx" -j2 -L portability --output-on-failure --no-tests=error || status=$?
