@@ -10,9 +10,15 @@
 //   results.csv    one row per scenario and controller (the table's numbers)
 //   results.md     the table in Markdown;  results.json;  population.csv;  report.html
 
+#include <pthread.h>
+#include <sched.h>
+
+#include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <future>
 #include <limits>
+#include <thread>
 
 #include "ensemble.hpp"
 #include "page.hpp"
@@ -58,6 +64,71 @@ struct Tables {
   unsigned jobs = 1;                  ///< threads the robot-by-robot chain's runs are shared among
 };
 
+/// The model's predictions of one ensemble, for runs of `duration` simulated seconds: tabulate's
+/// "predicted" columns.
+struct Prediction {
+  double duration = 0.0;
+  std::optional<std::vector<double>> chain;  ///< predicted_population (rules whose chance is the count's alone)
+  std::vector<double> by_robot;              ///< robot_by_robot_chain
+};
+
+Prediction predict(const scenario::Scenario& s, const std::string& controller, double duration,
+                   std::uint32_t by_robot_runs, unsigned jobs) {
+  return {duration, predicted_population(s, controller, duration),
+          robot_by_robot_chain(s, controller, duration, by_robot_runs, jobs)};
+}
+
+/// Every ensemble's Prediction, worked out beside the runs. A prediction depends on the scenario,
+/// the rule and the run's length, not on the runs, so one thread at the lowest priority
+/// (SCHED_IDLE: it runs only on a core nothing else wants; its helper threads inherit that)
+/// computes them in the order tabulate asks for them, on the CPU the runs leave idle: a launch's
+/// last seeds, the reading between launches. What is left when the runs end has the cores to
+/// itself. Each number is the same as computed in line (robot_by_robot_chain's sum is the same
+/// whatever thread ran which run).
+class BackgroundPredictions {
+ public:
+  struct Task {
+    scenario::Scenario scenario;
+    std::string controller;
+    double duration = 0.0;  ///< the scenario's run.duration (or the quick endless run's)
+  };
+
+  BackgroundPredictions(std::vector<Task> tasks, std::uint32_t by_robot_runs, unsigned jobs)
+      : tasks_(std::move(tasks)), promises_(tasks_.size()) {
+    for (auto& p : promises_) futures_.push_back(p.get_future());
+    thread_ = std::thread([this, by_robot_runs, jobs] {
+      sched_param lowest{};
+      // If the system refuses, the thread runs at normal priority: slower beside the runs, the same numbers.
+      (void)pthread_setschedparam(pthread_self(), SCHED_IDLE, &lowest);
+      for (std::size_t i = 0; i < tasks_.size() && !stop_; ++i) {
+        try {
+          promises_[i].set_value(predict(tasks_[i].scenario, tasks_[i].controller, tasks_[i].duration,
+                                         by_robot_runs, jobs));
+        } catch (...) {
+          promises_[i].set_exception(std::current_exception());
+        }
+      }
+    });
+  }
+  BackgroundPredictions(const BackgroundPredictions&) = delete;
+  BackgroundPredictions& operator=(const BackgroundPredictions&) = delete;
+  /// Stops after the prediction under way (a run that failed ends the experiment).
+  ~BackgroundPredictions() {
+    stop_ = true;
+    thread_.join();
+  }
+
+  /// Task @p i's prediction, once it is ready.
+  Prediction get(std::size_t i) { return futures_.at(i).get(); }
+
+ private:
+  std::vector<Task> tasks_;
+  std::vector<std::promise<Prediction>> promises_;
+  std::vector<std::future<Prediction>> futures_;
+  std::atomic<bool> stop_{false};
+  std::thread thread_;  // last: started once everything it uses exists
+};
+
 /// Every controller on `c`, one ensemble each (paper first).
 std::vector<Ensemble> run_case(const ControllersOptions& o, const QueueCase& c, const SeedRange& seeds,
                                const std::vector<std::string>& controllers, double C) {
@@ -72,8 +143,9 @@ std::vector<Ensemble> run_case(const ControllersOptions& o, const QueueCase& c, 
   return ensembles;
 }
 
-/// One ensemble's rows in every table, and its line on stderr.
-void tabulate(Tables& t, const QueueCase& c, const Ensemble& e, const scenario::Scenario& s) {
+/// One ensemble's rows in every table, and its line on stderr. @p prediction was computed for the
+/// run length the scenario gives; if the runs ended elsewhere it is computed again for theirs.
+void tabulate(Tables& t, const QueueCase& c, const Ensemble& e, const scenario::Scenario& s, Prediction prediction) {
   const auto final_pop = over_seeds(e, [](const SeedRun& r) { return r.final_population; });
   const auto departed = over_seeds(e, [](const SeedRun& r) { return r.departed; });
   const auto deliveries = over_seeds(e, [](const SeedRun& r) { return r.whole.deliveries; });
@@ -85,11 +157,12 @@ void tabulate(Tables& t, const QueueCase& c, const Ensemble& e, const scenario::
   const double optimum = e.runs.front().optimal_population;
   const double jw = pooled_J(e, s.model.C, false), jh = pooled_J(e, s.model.C, true);
   const double duration = e.runs.front().duration;
-  const auto predicted = predicted_population(s, e.label, duration);
+  if (prediction.duration != duration) prediction = predict(s, e.label, duration, t.by_robot_runs, t.jobs);
+  const auto& predicted = prediction.chain;
   const double predicted_half =
       predicted ? model::time_mean(*predicted, s.agent.dt, duration / 2.0, duration) : std::nan("");
-  const double by_robot_half = model::time_mean(robot_by_robot_chain(s, e.label, duration, t.by_robot_runs, t.jobs),
-                                                s.agent.dt, duration / 2.0, duration);
+  const double by_robot_half =
+      model::time_mean(prediction.by_robot, s.agent.dt, duration / 2.0, duration);
   for (const auto& r : e.runs) {
     t.per_seed.row({c.name, e.label, r.seed, r.whole.J, r.whole.lambda, r.whole.output, r.last_half.J,
                     r.last_half.lambda, r.last_half.output, r.final_population, optimum, r.departed, r.agents_lost,
@@ -215,10 +288,21 @@ int run_controllers(const ControllersOptions& o) {
   Tables t(out);
   if (o.common.quick) t.by_robot_runs = 20;
   t.jobs = worker_count(o.common.jobs);
+  std::vector<scenario::Scenario> scenarios;
+  std::vector<BackgroundPredictions::Task> tasks;  // case by case, controller by controller
   for (const auto& c : cases) {
-    const auto s = scenario::load(c.file, o.common.overrides);
+    scenarios.push_back(scenario::load(c.file, o.common.overrides));
+    const double duration =
+        o.common.quick && c.name == "endless" ? quick_endless : scenarios.back().run.duration;
+    for (const auto& name : controllers) tasks.push_back({scenarios.back(), name, duration});
+  }
+  BackgroundPredictions predictions(std::move(tasks), t.by_robot_runs, t.jobs);
+  std::size_t next_prediction = 0;
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    const auto& c = cases[k];
+    const auto& s = scenarios[k];
     const auto ensembles = run_case(o, c, seeds, controllers, s.model.C);
-    for (const auto& e : ensembles) tabulate(t, c, e, s);
+    for (const auto& e : ensembles) tabulate(t, c, e, s, predictions.get(next_prediction++));
     add_case_figures(t.figures, c, ensembles, seeds);
   }
   t.per_seed.close();

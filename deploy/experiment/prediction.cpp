@@ -60,6 +60,7 @@ std::vector<double> robot_by_robot_chain(const scenario::Scenario& s, const std:
   const auto steps = static_cast<std::int64_t>(duration / agent.dt + 1e-9);
   const double first_decision = agent::make_controller(controller)->first_decision_after(agent);
   const double lambda_star = model::lambda_star(s.model);
+  const double divisor = model::mle_divisor(s.model.delta, s.model.v, agent.L);  // as the agent's, once
   // Run `run`, its robots inside at every step added to `inside_sum`. Each run is seeded on its
   // own and the sums are integers, so the mean is the same whatever thread ran which run.
   const auto run_chain = [&](std::uint32_t run, std::vector<std::uint64_t>& inside_sum) {
@@ -91,7 +92,7 @@ std::vector<double> robot_by_robot_chain(const scenario::Scenario& s, const std:
         if (own < 1 || time_inside < first_decision - 1e-9 * agent.dt) return false;
         const std::uint64_t y = robot.window.count_at(t);
         const agent::ControllerInput input{t,        time_inside, y,     agent.L,     agent.dt,
-                                           model::mle_density(y, s.model.delta, s.model.v, agent.L),
+                                           model::mle_density(y, divisor),
                                            lambda_star, s.model,  agent,       robot.window};
         return rng.uniform() < std::clamp(robot.rule->retreat_probability(input), 0.0, 1.0);
       });
