@@ -16,6 +16,9 @@
 #include <vector>
 
 #include "retreat/agent/controller_registry.hpp"
+#include "retreat/experiment/prediction.hpp"
+#include "retreat/model/population.hpp"
+#include "retreat/scenario/scenario.hpp"
 #include "retreat/testing/domains.hpp"
 #include "retreat/testing/process.hpp"
 
@@ -303,6 +306,27 @@ TEST(Experiment, ControllersQuickRunComparesEveryRegisteredControllerOnBothQueue
       // Seed 7's first robot to stall began retreating at about 97 s (LaunchRuns.TheSummaryReports…).
       EXPECT_EQ(stalled, 1.0) << "seed 7 under paper no longer jams; the test needs another seed";
     }
+  }
+  // The predictions are worked out beside the runs (on a thread of their own, their robot chains
+  // shared among --jobs threads): each must be the number the model's functions give in line,
+  // here on one thread, to the last bit (results.json keeps every double's digits).
+  for (const auto& row : read_json(dir + "/out/results.json")) {
+    const auto scenario = retreat::scenario::load(
+        std::string(RETREAT_SCENARIOS) + (row["scenario"] == "finite" ? "/robotarium-2019.yaml" : "/steady-influx.yaml"));
+    const auto rule = row["controller"].get<std::string>();
+    const double duration = row["duration"].get<double>();
+    const double dt = scenario.agent.dt;
+    const auto chain = retreat::experiment::predicted_population(scenario, rule, duration);
+    if (chain) {
+      EXPECT_EQ(row["predicted_population_last_half"].get<double>(),
+                retreat::model::time_mean(*chain, dt, duration / 2.0, duration)) << rule;
+    } else {
+      EXPECT_TRUE(row["predicted_population_last_half"].is_null()) << rule;
+    }
+    // --quick: 20 runs of the robot-by-robot chain.
+    EXPECT_EQ(row["predicted_by_robot_population_last_half"].get<double>(),
+              retreat::model::time_mean(retreat::experiment::robot_by_robot_chain(scenario, rule, duration, 20, 1), dt,
+                                        duration / 2.0, duration)) << rule;
   }
   const auto md = retreat::testing::read_file(dir + "/out/results.md");
   EXPECT_NE(md.find("| scenario | controller | J whole run |"), std::string::npos);
