@@ -10,9 +10,6 @@
 //   results.csv    one row per scenario and controller (the table's numbers)
 //   results.md     the table in Markdown;  results.json;  population.csv;  report.html
 
-#include <pthread.h>
-#include <sched.h>
-
 #include <atomic>
 #include <cmath>
 #include <cstdio>
@@ -79,12 +76,12 @@ Prediction predict(const scenario::Scenario& s, const std::string& controller, d
 }
 
 /// Every ensemble's Prediction, worked out beside the runs. A prediction depends on the scenario,
-/// the rule and the run's length, not on the runs, so one thread at the lowest priority
-/// (SCHED_IDLE: it runs only on a core nothing else wants; its helper threads inherit that)
-/// computes them in the order tabulate asks for them, on the CPU the runs leave idle: a launch's
-/// last seeds, the reading between launches. What is left when the runs end has the cores to
-/// itself. Each number is the same as computed in line (robot_by_robot_chain's sum is the same
-/// whatever thread ran which run).
+/// the rule and the run's length, not on the runs, so one thread computes them from the start, in
+/// the order tabulate asks for them, and fills the CPU the runs leave idle (a launch's last
+/// seeds, the reading between launches). At normal priority: at the lowest (SCHED_IDLE) it
+/// filled the same gaps, but on a machine busy with other work it got next to no CPU and the
+/// table waited for minutes (a loaded test run timed out on it). Each number is the same as
+/// computed in line (robot_by_robot_chain's sum is the same whatever thread ran which run).
 class BackgroundPredictions {
  public:
   struct Task {
@@ -97,9 +94,6 @@ class BackgroundPredictions {
       : tasks_(std::move(tasks)), promises_(tasks_.size()) {
     for (auto& p : promises_) futures_.push_back(p.get_future());
     thread_ = std::thread([this, by_robot_runs, jobs] {
-      sched_param lowest{};
-      // If the system refuses, the thread runs at normal priority: slower beside the runs, the same numbers.
-      (void)pthread_setschedparam(pthread_self(), SCHED_IDLE, &lowest);
       for (std::size_t i = 0; i < tasks_.size() && !stop_; ++i) {
         try {
           promises_[i].set_value(predict(tasks_[i].scenario, tasks_[i].controller, tasks_[i].duration,
