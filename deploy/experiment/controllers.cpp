@@ -15,6 +15,7 @@
 #include <cstdio>
 #include <future>
 #include <limits>
+#include <optional>
 #include <thread>
 
 #include "ensemble.hpp"
@@ -31,6 +32,12 @@ namespace {
 
 /// The endless queue's run in the reduced size (steady-influx.yaml runs an hour) [s].
 constexpr double quick_endless = 1200.0;
+
+/// The run length --quick gives case @p c in place of its scenario's, if it gives one [s].
+std::optional<double> reduced_run(const ControllersOptions& o, const QueueCase& c) {
+  if (o.common.quick && c.name == "endless") return quick_endless;
+  return std::nullopt;
+}
 
 std::string pm(const Moments& m, int digits) {
   return std::isfinite(m.mean) ? fixed(m.mean, digits) + " ± " + fixed(m.sd, digits) : "∞ (a seed without deliveries)";
@@ -131,7 +138,7 @@ std::vector<Ensemble> run_case(const ControllersOptions& o, const QueueCase& c, 
     const std::string dir = o.common.out_dir + "/runs/" + c.name + "/" + name;
     LaunchRequest r{c.file, o.common.overrides, seeds, true, "", {}, dir, dir + ".log", o.common.jobs};
     r.overrides.push_back("agent.controller=" + name);
-    if (o.common.quick && c.name == "endless") r.overrides.emplace_back("run.duration=" + fixed(quick_endless, 0));
+    if (const auto duration = reduced_run(o, c)) r.overrides.emplace_back("run.duration=" + fixed(*duration, 0));
     ensembles.push_back(run_ensemble(o.common.launcher, c.name + "-" + name, name, r, C));
   }
   return ensembles;
@@ -286,8 +293,7 @@ int run_controllers(const ControllersOptions& o) {
   std::vector<BackgroundPredictions::Task> tasks;  // case by case, controller by controller
   for (const auto& c : cases) {
     scenarios.push_back(scenario::load(c.file, o.common.overrides));
-    const double duration =
-        o.common.quick && c.name == "endless" ? quick_endless : scenarios.back().run.duration;
+    const double duration = reduced_run(o, c).value_or(scenarios.back().run.duration);
     for (const auto& name : controllers) tasks.push_back({scenarios.back(), name, duration});
   }
   BackgroundPredictions predictions(std::move(tasks), t.by_robot_runs, t.jobs);
