@@ -94,9 +94,8 @@ std::vector<std::string> complete_lines(const std::string& path) {
 
 std::string RunRecorder::recorded_run_in(const std::string& dir) {
   for (const char* name : {"telemetry.csv", "summary.json"}) {
-    std::error_code ec;
     const auto path = (std::filesystem::path(dir) / name).string();
-    if (std::filesystem::exists(path, ec)) return path;
+    if (retreat::exists(path)) return path;
   }
   return {};
 }
